@@ -1,0 +1,53 @@
+"""gb_pin: Online Goal Babbling (Rolf, Steil & Gienger, ICDL 2011) on Pinocchio kinematic targets.
+
+>>> import gb_pin
+>>> result = gb_pin.babble(robot="planar5", movements=100, seed=0)
+>>> result.inverse([0.5, 0.0]).shape
+(5,)
+"""
+
+from gb_pin.api import BabbleResult, babble
+from gb_pin.babbling import BabbleConfig, GoalBabbling, History, default_sigma
+from gb_pin.chain import KinematicChain
+from gb_pin.exceptions import (
+    DivergenceError,
+    GbPinError,
+    InvalidArgumentError,
+    ResultFileError,
+    UnknownRobotError,
+)
+from gb_pin.io import load_result, save_result
+from gb_pin.llm import LocalLinearMap
+from gb_pin.metrics import evaluation_schedule, speed
+from gb_pin.robots import RobotPreset, grid_targets, load_robot, planar_chain, planar_home, robots
+from gb_pin.target import KinematicTarget
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "BabbleConfig",
+    "BabbleResult",
+    "DivergenceError",
+    "GbPinError",
+    "GoalBabbling",
+    "History",
+    "InvalidArgumentError",
+    "KinematicChain",
+    "KinematicTarget",
+    "LocalLinearMap",
+    "ResultFileError",
+    "RobotPreset",
+    "UnknownRobotError",
+    "__version__",
+    "babble",
+    "default_sigma",
+    "evaluation_schedule",
+    "grid_targets",
+    "load_result",
+    "load_robot",
+    "planar_chain",
+    "planar_home",
+    "robots",
+    "save_result",
+    "speed",
+]

@@ -1,0 +1,87 @@
+"""Argument checks shared by the public API: each raises InvalidArgumentError naming the value."""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin.exceptions import InvalidArgumentError
+
+
+def _is_real(value: Any) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def positive_float(name: str, value: Any) -> float:
+    """Return ``value`` as a float if it is a finite number > 0, else raise."""
+    if not _is_real(value) or not math.isfinite(float(value)) or float(value) <= 0.0:
+        raise InvalidArgumentError(f"{name} must be a positive finite number, got {value!r}")
+    return float(value)
+
+
+def nonnegative_float(name: str, value: Any) -> float:
+    """Return ``value`` as a float if it is a finite number >= 0, else raise."""
+    if not _is_real(value) or not math.isfinite(float(value)) or float(value) < 0.0:
+        raise InvalidArgumentError(f"{name} must be a finite number >= 0, got {value!r}")
+    return float(value)
+
+
+def probability(name: str, value: Any) -> float:
+    """Return ``value`` as a float if it lies in [0, 1), else raise."""
+    if not _is_real(value) or not (0.0 <= float(value) < 1.0):
+        raise InvalidArgumentError(f"{name} must be a probability in [0, 1), got {value!r}")
+    return float(value)
+
+
+def positive_int(name: str, value: Any, minimum: int = 1) -> int:
+    """Return ``value`` as an int if it is an integer >= ``minimum``, else raise."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
+        raise InvalidArgumentError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def points(name: str, value: Any, dim: int, *, min_rows: int = 1) -> NDArray[np.float64]:
+    """Return ``value`` as a C-contiguous float array of shape (N, dim) with finite entries."""
+    try:
+        arr = np.array(value, dtype=np.float64, ndmin=2)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"{name} must be an array of shape (N, {dim}) of finite numbers, got {value!r}"
+        ) from exc
+    if arr.ndim != 2 or arr.shape[1] != dim or arr.shape[0] < min_rows:
+        raise InvalidArgumentError(
+            f"{name} must have shape (N, {dim}) with N >= {min_rows}, got shape {arr.shape}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise InvalidArgumentError(f"{name} must contain only finite values, got {arr.tolist()!r}")
+    return np.ascontiguousarray(arr)
+
+
+def vector(name: str, value: Any, dim: int) -> NDArray[np.float64]:
+    """Return ``value`` as a finite float vector of length ``dim``."""
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"{name} must be a vector of {dim} finite numbers, got {value!r}"
+        ) from exc
+    if arr.shape != (dim,):
+        raise InvalidArgumentError(f"{name} must have shape ({dim},), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InvalidArgumentError(f"{name} must contain only finite values, got {arr.tolist()!r}")
+    return np.ascontiguousarray(arr)
+
+
+def generator(seed: Any) -> np.random.Generator:
+    """Return a numpy Generator from a seed (int >= 0) or a Generator; never global state."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise InvalidArgumentError(
+            f"seed must be a non-negative integer or a numpy.random.Generator, got {seed!r}"
+        )
+    return np.random.default_rng(int(seed))

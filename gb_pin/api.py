@@ -1,0 +1,168 @@
+"""``babble()``: one call from a robot name to a learned inverse model."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.babbling import BabbleConfig, GoalBabbling, History
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.llm import LocalLinearMap
+from gb_pin.robots import get_preset, load_robot
+from gb_pin.target import KinematicTarget
+
+
+@dataclass(frozen=True, eq=False)
+class BabbleResult:
+    """What a goal-babbling run learned and measured.
+
+    Attributes:
+        target: the robot (:class:`~gb_pin.target.KinematicTarget`).
+        targets: (N, n) evaluation target set X* [m].
+        history: E^X and D^home over movements.
+        model: the learned local-linear map g.
+        config: hyperparameters used.
+        seed: the integer seed, or None if a Generator was given.
+        robot: the preset name, or None for a custom target.
+        movements: movements run.
+        steps: time steps run.
+        wall_time: seconds spent babbling (compilation excluded after the first call).
+    """
+
+    target: KinematicTarget
+    targets: NDArray[np.float64]
+    history: History
+    model: LocalLinearMap
+    config: BabbleConfig
+    seed: int | None
+    robot: str | None
+    movements: int
+    steps: int
+    wall_time: float
+
+    def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
+        """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
+        return self.model.predict(X)
+
+    @property
+    def error(self) -> float:
+        """Final E^X [m]."""
+        return float(self.history.error[-1])
+
+    @property
+    def home_distance(self) -> float:
+        """Final D^home [rad]."""
+        return float(self.history.home_distance[-1])
+
+    @property
+    def n_prototypes(self) -> int:
+        """Number of local linear models K."""
+        return self.model.n_prototypes_
+
+    def save(self, path: str) -> None:
+        """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
+        from gb_pin.io import save_result
+
+        save_result(self, path)
+
+
+def babble(
+    robot: str | KinematicTarget = "planar20",
+    movements: int = 1000,
+    seed: int | np.random.Generator = 0,
+    learning_rate: float | None = None,
+    *,
+    sigma: float | None = None,
+    sigma_delta: float | None = None,
+    radius: float | None = None,
+    path_length: int | None = None,
+    p_home: float | None = None,
+    targets: ArrayLike | None = None,
+    eval_targets: ArrayLike | None = None,
+    schedule: ArrayLike | None = None,
+    callback: Callable[[int], Any] | None = None,
+) -> BabbleResult:
+    """Bootstrap an inverse model of ``robot`` by online goal babbling.
+
+    Parameters left as None take the robot preset's defaults, else the paper's:
+    learning_rate 0.1, sigma by Eq. 12 (0.05 at 5 joints), sigma_delta 0.1 sigma,
+    radius 0.1 m, path_length 25, p_home 0.1.
+
+    Args:
+        robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``) or a
+            :class:`~gb_pin.target.KinematicTarget`.
+        movements: number of movements (home returns included).
+        seed: an int seed or a numpy Generator; same seed, same result.
+        learning_rate: eta.
+        sigma: exploration noise per joint [rad].
+        sigma_delta: random-walk step of the noise [rad].
+        radius: prototype radius d [m].
+        path_length: L, steps per movement.
+        p_home: probability of a home return.
+        targets: target set X* (N, n) [m]; default the robot's.
+        eval_targets: evaluation set; default ``targets``.
+        schedule: movement counts at which to record E^X and D^home.
+        callback: called with the movement count as the run progresses.
+
+    Returns:
+        A :class:`BabbleResult`.
+
+    Raises:
+        UnknownRobotError: unknown preset name.
+        InvalidArgumentError: any other bad argument.
+    """
+    defaults: dict[str, Any] = {}
+    if isinstance(robot, KinematicTarget):
+        target = robot
+        name = None
+    elif isinstance(robot, str):
+        preset, _ = get_preset(robot)
+        defaults = dict(preset.learner)
+        target = load_robot(robot)
+        name = robot
+    else:
+        raise InvalidArgumentError(f"robot must be a preset name or a KinematicTarget, got {robot!r}")
+    movements = check.positive_int("movements", movements)
+    if targets is None:
+        if target.targets is None:
+            raise InvalidArgumentError(
+                f"robot {target.name!r} has no target set: pass targets=(N, {target.n_task}) array [m]"
+            )
+        X = target.targets
+    else:
+        X = check.points("targets", targets, target.n_task)
+
+    def pick(name: str, value: Any, fallback: Any) -> Any:
+        return value if value is not None else defaults.get(name, fallback)
+
+    learner = GoalBabbling(
+        learning_rate=pick("learning_rate", learning_rate, 0.1),
+        sigma=pick("sigma", sigma, None),
+        sigma_delta=pick("sigma_delta", sigma_delta, None),
+        radius=pick("radius", radius, 0.1),
+        path_length=pick("path_length", path_length, 25),
+        p_home=pick("p_home", p_home, 0.1),
+    )
+    int_seed = None if isinstance(seed, np.random.Generator) else seed
+    start = time.perf_counter()
+    learner.fit(target, X, movements, seed=seed, eval_targets=eval_targets, schedule=schedule, callback=callback)
+    wall = time.perf_counter() - start
+    Xe = X if eval_targets is None else np.asarray(eval_targets, dtype=float)
+    return BabbleResult(
+        target=target,
+        targets=Xe,
+        history=learner.history_,
+        model=learner.model_,
+        config=learner.config_,
+        seed=int_seed,  # type: ignore[arg-type]
+        robot=name,
+        movements=learner.movements_,
+        steps=learner.steps_,
+        wall_time=wall,
+    )

@@ -1,0 +1,31 @@
+"""Exceptions raised by gb_pin.
+
+Every error a user can provoke with a bad argument, an unknown robot or a broken
+file is a :class:`GbPinError`; argument errors also subclass :class:`ValueError`
+so that generic ``except ValueError`` handlers keep working.
+"""
+
+from __future__ import annotations
+
+
+class GbPinError(Exception):
+    """Base class of every exception raised by gb_pin."""
+
+
+class InvalidArgumentError(GbPinError, ValueError):
+    """An argument has a wrong type, shape, range or value.
+
+    The message names the parameter, the value received and what would be valid.
+    """
+
+
+class UnknownRobotError(InvalidArgumentError):
+    """A robot name, frame or joint name that gb_pin does not know."""
+
+
+class ResultFileError(GbPinError):
+    """A saved result file is missing, truncated, corrupted or not a gb_pin file."""
+
+
+class DivergenceError(GbPinError):
+    """The learner's state became non-finite (e.g. a far too high learning rate)."""

@@ -1,0 +1,138 @@
+"""Save and load results as one ``.npz`` file, read with ``allow_pickle=False``."""
+
+from __future__ import annotations
+
+import json
+import os
+import zipfile
+from typing import Any
+
+import numpy as np
+
+from gb_pin.api import BabbleResult
+from gb_pin.babbling import BabbleConfig, History
+from gb_pin.exceptions import GbPinError, ResultFileError
+from gb_pin.llm import LocalLinearMap
+from gb_pin.robots import load_robot
+from gb_pin.target import KinematicTarget
+
+FORMAT = "gb_pin.result"
+FORMAT_VERSION = 1
+_KEYS = ("meta", "movements", "error", "home_distance", "targets", "prototypes", "matrices", "offsets")
+
+
+def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
+    """Write ``result`` to ``path`` (an ``.npz`` archive of plain arrays and a JSON header).
+
+    The file is written to a temporary name and renamed, so a crash never leaves half a file.
+    """
+    from gb_pin import __version__
+
+    meta = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "gb_pin_version": __version__,
+        "robot": result.robot,
+        "target_name": result.target.name,
+        "n_joints": result.target.n_joints,
+        "n_task": result.target.n_task,
+        "config": result.config.as_dict(),
+        "seed": result.seed,
+        "movements": result.movements,
+        "steps": result.steps,
+        "wall_time": result.wall_time,
+    }
+    path = os.fspath(path)
+    tmp = path + ".tmp"
+    with open(tmp, "wb") as fh:
+        np.savez_compressed(
+            fh,
+            meta=np.array(json.dumps(meta)),
+            movements=result.history.movements,
+            error=result.history.error,
+            home_distance=result.history.home_distance,
+            targets=result.targets,
+            prototypes=result.model.prototypes_,
+            matrices=result.model.matrices_,
+            offsets=result.model.offsets_,
+        )
+    os.replace(tmp, path)
+
+
+def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
+    """Read a result written by :func:`save_result`.
+
+    Args:
+        path: the ``.npz`` file.
+        target: the robot, needed only for results of a custom (non-preset) target.
+
+    Raises:
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+    """
+    path = os.fspath(path)
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            missing = [k for k in _KEYS if k not in archive.files]
+            if missing:
+                raise ResultFileError(f"{path}: not a gb_pin result file (missing {missing})")
+            arrays = {k: archive[k] for k in _KEYS}
+    except FileNotFoundError as exc:
+        raise ResultFileError(f"{path}: no such file") from exc
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as exc:
+        raise ResultFileError(f"{path}: unreadable or corrupted result file ({exc})") from exc
+    try:
+        meta: dict[str, Any] = json.loads(str(arrays["meta"]))
+    except ValueError as exc:
+        raise ResultFileError(f"{path}: corrupted header ({exc})") from exc
+    if meta.get("format") != FORMAT:
+        raise ResultFileError(f"{path}: not a gb_pin result file (format {meta.get('format')!r})")
+    if meta.get("format_version", 0) > FORMAT_VERSION:
+        raise ResultFileError(
+            f"{path}: written by a newer gb_pin (format version {meta.get('format_version')}); "
+            f"this gb_pin reads up to {FORMAT_VERSION}"
+        )
+    try:
+        if target is None:
+            if meta["robot"] is None:
+                raise ResultFileError(
+                    f"{path}: saved from a custom KinematicTarget {meta['target_name']!r}; "
+                    "pass target= to load_result"
+                )
+            target = load_robot(meta["robot"])
+        if (target.n_joints, target.n_task) != (meta["n_joints"], meta["n_task"]):
+            raise ResultFileError(
+                f"{path}: saved for {meta['n_joints']} joints and {meta['n_task']} task axes, "
+                f"but the target has {target.n_joints} and {target.n_task}"
+            )
+        config = BabbleConfig(**meta["config"])
+        P, W, O = arrays["prototypes"], arrays["matrices"], arrays["offsets"]
+        K = P.shape[0]
+        if K < 1 or W.shape != (K, target.n_joints, target.n_task) or O.shape != (K, target.n_joints):
+            raise ResultFileError(f"{path}: model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}")
+        model = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate)
+        model.initialize(P[0], O[0], capacity=K)
+        model._P[:K], model._W[:K], model._O[:K] = P, W, O
+        model._K = K
+        history = History(
+            movements=arrays["movements"].astype(np.int64),
+            error=arrays["error"].astype(float),
+            home_distance=arrays["home_distance"].astype(float),
+        )
+        return BabbleResult(
+            target=target,
+            targets=arrays["targets"].astype(float),
+            history=history,
+            model=model,
+            config=config,
+            seed=meta["seed"],
+            robot=meta["robot"],
+            movements=int(meta["movements"]),
+            steps=int(meta["steps"]),
+            wall_time=float(meta["wall_time"]),
+        )
+    except GbPinError as exc:
+        if isinstance(exc, ResultFileError):
+            raise
+        raise ResultFileError(f"{path}: {exc}") from exc
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc

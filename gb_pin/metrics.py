@@ -1,0 +1,93 @@
+"""Evaluation measures of the paper (Sec. III): E^X (Eq. 9), D^home (Eq. 10), S(Q, e) (Eq. 11).
+
+    E^X_r    = 1/N sum_i ||x*_i - f(g(x*_i, theta_rL))||      accuracy   [m]
+    D^home_r = 1/N sum_i ||q_home - g(x*_i, theta_rL)||       comfort    [rad]
+
+With joint limits, f is applied to the posture clipped to the limits (what the
+robot would execute); D^home uses g itself, as in Eq. 10.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.chain import chain_position
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.llm import llm_predict
+
+
+@njit(cache=True, nogil=True)
+def evaluate_model(  # type: ignore[no-untyped-def]
+    targets, home, lower, upper, chain, rot_ws, pos_ws, P, W, O, K, radius, act, q, x
+):
+    """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n)."""
+    m = home.shape[0]
+    n = targets.shape[1]
+    error = 0.0
+    distance = 0.0
+    for r in range(targets.shape[0]):
+        xs = targets[r]
+        llm_predict(xs, P, W, O, K, radius, act, q)
+        d = 0.0
+        for i in range(m):
+            v = home[i] - q[i]
+            d += v * v
+            q[i] = min(max(q[i], lower[i]), upper[i])
+        distance += math.sqrt(d)
+        chain_position(q, chain, rot_ws, pos_ws, x)
+        e = 0.0
+        for j in range(n):
+            v = xs[j] - x[j]
+            e += v * v
+        error += math.sqrt(e)
+    count = targets.shape[0]
+    return error / count, distance / count
+
+
+def evaluation_schedule(movements: int, dense_until: int = 1000, per_decade: int = 50) -> NDArray[np.int64]:
+    """Movement counts at which E^X and D^home are recorded.
+
+    Every count 0..min(movements, dense_until), then ``per_decade`` log-spaced
+    counts per decade up to ``movements`` (always included).
+
+    Args:
+        movements: total number of movements of the run.
+        dense_until: last movement count recorded after every movement.
+        per_decade: log-spaced points per factor of 10 beyond ``dense_until``.
+    """
+    movements = check.positive_int("movements", movements)
+    dense_until = check.positive_int("dense_until", dense_until, minimum=0)
+    per_decade = check.positive_int("per_decade", per_decade)
+    dense = np.arange(0, min(movements, dense_until) + 1, dtype=np.int64)
+    if movements <= dense_until:
+        return dense
+    start = max(dense_until, 1)
+    count = int(math.ceil(per_decade * math.log10(movements / start))) + 1
+    sparse = np.unique(np.round(np.geomspace(start, movements, count)).astype(np.int64))
+    return np.unique(np.concatenate([dense, sparse, [movements]]))
+
+
+def speed(movements: ArrayLike, errors: ArrayLike, quantile: float, level: float) -> int | None:
+    """S(Q, e) of Eq. 11: the first recorded movement count at which a fraction >= Q of trials has E^X <= e.
+
+    Args:
+        movements: (T,) recorded movement counts.
+        errors: (trials, T) E^X of each trial.
+        quantile: Q in (0, 1].
+        level: e [m].
+
+    Returns:
+        The movement count, or None if the fraction is never reached.
+    """
+    mv = np.asarray(movements)
+    err = np.atleast_2d(np.asarray(errors, dtype=float))
+    if not 0.0 < quantile <= 1.0:
+        raise InvalidArgumentError(f"quantile must be in (0, 1], got {quantile!r}")
+    fraction = np.mean(err <= level, axis=0)
+    hit = np.flatnonzero(fraction >= quantile)
+    return int(mv[hit[0]]) if hit.size else None
