@@ -139,9 +139,7 @@ def babble_loop(  # type: ignore[no-untyped-def]
         w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
         if kind == GOAL:
             w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6
-        istate[PROTOTYPES] = llm_learn(
-            x, q, w, eta, P, W, O, istate[PROTOTYPES], radius, act, g, y, J
-        )
+        istate[PROTOTYPES] = llm_learn(x, q, w, eta, P, W, O, istate[PROTOTYPES], radius, act, g, y, J)
         noise_walk(rng, sigma, sigma_delta, A, b)
         for i in range(m):
             q_prev[i] = q[i]

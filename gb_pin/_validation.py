@@ -66,9 +66,7 @@ def vector(name: str, value: Any, dim: int) -> NDArray[np.float64]:
     try:
         arr = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(
-            f"{name} must be a vector of {dim} finite numbers, got {value!r}"
-        ) from exc
+        raise InvalidArgumentError(f"{name} must be a vector of {dim} finite numbers, got {value!r}") from exc
     if arr.shape != (dim,):
         raise InvalidArgumentError(f"{name} must have shape ({dim},), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):

@@ -72,6 +72,13 @@ class BabbleResult:
         save_result(self, path)
 
 
+def warmup() -> float:
+    """Compile (or load from the on-disk cache) the numba kernels; returns the seconds it took."""
+    start = time.perf_counter()
+    babble("planar2", movements=1, seed=0, schedule=[0, 1])
+    return time.perf_counter() - start
+
+
 def babble(
     robot: str | KinematicTarget = "planar20",
     movements: int = 1000,
@@ -149,10 +156,18 @@ def babble(
         path_length=pick("path_length", path_length, 25),
         p_home=pick("p_home", p_home, 0.1),
     )
-    int_seed = None if isinstance(seed, np.random.Generator) else seed
     start = time.perf_counter()
-    learner.fit(target, X, movements, seed=seed, eval_targets=eval_targets, schedule=schedule, callback=callback)
+    learner.fit(
+        target,
+        X,
+        movements,
+        seed=seed,
+        eval_targets=eval_targets,
+        schedule=schedule,
+        callback=callback,
+    )
     wall = time.perf_counter() - start
+    int_seed = None if isinstance(seed, np.random.Generator) else int(seed)  # validated by fit
     Xe = X if eval_targets is None else np.asarray(eval_targets, dtype=float)
     return BabbleResult(
         target=target,
@@ -160,7 +175,7 @@ def babble(
         history=learner.history_,
         model=learner.model_,
         config=learner.config_,
-        seed=int_seed,  # type: ignore[arg-type]
+        seed=int_seed,
         robot=name,
         movements=learner.movements_,
         steps=learner.steps_,

@@ -104,7 +104,8 @@ class History:
         idx = np.flatnonzero(self.movements == movements)
         if not idx.size:
             raise InvalidArgumentError(
-                f"movements={movements!r} was not recorded; recorded: {self.movements[0]}..{self.movements[-1]}"
+                f"movements={movements!r} was not recorded; recorded: "
+                f"{self.movements[0]}..{self.movements[-1]} (see History.movements)"
             )
         return float(self.error[idx[0]]), float(self.home_distance[idx[0]])
 
@@ -152,9 +153,9 @@ class GoalBabbling:
         check.nonnegative_float("sigma", sigma)
         sigma_delta = 0.1 * sigma if self.sigma_delta is None else self.sigma_delta
         return BabbleConfig(
-            learning_rate=self.learning_rate,  # type: ignore[arg-type]
+            learning_rate=self.learning_rate,
             sigma=float(sigma),
-            sigma_delta=sigma_delta,  # type: ignore[arg-type]
+            sigma_delta=sigma_delta,
             radius=self.radius,
             path_length=self.path_length,
             p_home=self.p_home,
@@ -201,14 +202,18 @@ class GoalBabbling:
         else:
             at = np.unique(np.asarray(schedule, dtype=np.int64))
             if at.size == 0 or at[0] < 0 or at[-1] > movements:
-                raise InvalidArgumentError(f"schedule must hold movement counts in [0, {movements}], got {schedule!r}")
+                raise InvalidArgumentError(
+                    f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"
+                )
         config = self._resolve(m)
 
         chain_args = chain.as_tuple()
         rot_ws, pos_ws = chain.workspace()
         x_home = np.empty(n)
         chain_position(home, chain_args, rot_ws, pos_ws, x_home)
-        llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(x_home, home)
+        llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
+            x_home, home
+        )
         A = np.empty((m, n))
         b = np.empty(m)
         noise_init(rng, config.sigma, A, b)
@@ -235,7 +240,17 @@ class GoalBabbling:
         while stop < movements:
             stop = min(movements, stop + chunk)
             while True:
-                scratch = (np.empty(m), np.empty(n), np.empty(n), llm._act, llm._g, llm._y, llm._J, rot_ws, pos_ws)
+                scratch = (
+                    np.empty(m),
+                    np.empty(n),
+                    np.empty(n),
+                    llm._act,
+                    llm._g,
+                    llm._y,
+                    llm._J,
+                    rot_ws,
+                    pos_ws,
+                )
                 status = _loop.babble_loop(
                     rng, stop, params, problem, chain_args, (llm._P, llm._W, llm._O), (A, b),
                     fstate, istate, scratch, (at, Xe), (errors, distances),

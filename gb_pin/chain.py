@@ -101,9 +101,17 @@ def chain_position(q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-de
         pos_ws: (m, 3) scratch, receives each joint's world position.
         out: (n,) output.
     """
-    (parents, rotations, translations, axes, kinds, q_index, frame_parent, frame_translation, task_axes) = (
-        chain
-    )
+    (
+        parents,
+        rotations,
+        translations,
+        axes,
+        kinds,
+        q_index,
+        frame_parent,
+        frame_translation,
+        task_axes,
+    ) = chain
     m = q.shape[0]
     for i in range(m):
         p = parents[i]

@@ -18,7 +18,16 @@ from gb_pin.target import KinematicTarget
 
 FORMAT = "gb_pin.result"
 FORMAT_VERSION = 1
-_KEYS = ("meta", "movements", "error", "home_distance", "targets", "prototypes", "matrices", "offsets")
+_KEYS = (
+    "meta",
+    "movements",
+    "error",
+    "home_distance",
+    "targets",
+    "prototypes",
+    "matrices",
+    "offsets",
+)
 
 
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
@@ -108,7 +117,9 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         P, W, O = arrays["prototypes"], arrays["matrices"], arrays["offsets"]
         K = P.shape[0]
         if K < 1 or W.shape != (K, target.n_joints, target.n_task) or O.shape != (K, target.n_joints):
-            raise ResultFileError(f"{path}: model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}")
+            raise ResultFileError(
+                f"{path}: model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}"
+            )
         model = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate)
         model.initialize(P[0], O[0], capacity=K)
         model._P[:K], model._W[:K], model._O[:K] = P, W, O

@@ -211,7 +211,9 @@ class LocalLinearMap:
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "_K"):
-            raise InvalidArgumentError("this LocalLinearMap is not initialised: call initialize(x0, q0) first")
+            raise InvalidArgumentError(
+                "this LocalLinearMap is not initialised: call initialize(x0, q0) first"
+            )
 
     @property
     def n_prototypes_(self) -> int:

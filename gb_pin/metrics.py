@@ -67,7 +67,7 @@ def evaluation_schedule(movements: int, dense_until: int = 1000, per_decade: int
     if movements <= dense_until:
         return dense
     start = max(dense_until, 1)
-    count = int(math.ceil(per_decade * math.log10(movements / start))) + 1
+    count = math.ceil(per_decade * math.log10(movements / start)) + 1
     sparse = np.unique(np.round(np.geomspace(start, movements, count)).astype(np.int64))
     return np.unique(np.concatenate([dense, sparse, [movements]]))
 

@@ -80,7 +80,10 @@ def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
         raise InvalidArgumentError(
             f"a target grid needs lower, upper and shape of one length, got {lower!r}, {upper!r}, {shape!r}"
         )
-    axes = [np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2]) for a, b, c in zip(lo, hi, counts, strict=True)]
+    axes = [
+        np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2])
+        for a, b, c in zip(lo, hi, counts, strict=True)
+    ]
     mesh = np.meshgrid(*axes, indexing="ij")
     return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
 
@@ -124,7 +127,9 @@ def _read_preset(text: str, filename: str) -> RobotPreset:
         learner = {str(k): v for k, v in raw.pop("learner", {}).items()}
         unknown = set(learner) - set(_LEARNER_KEYS)
         if unknown:
-            raise InvalidArgumentError(f"unknown learner keys {sorted(unknown)}; valid: {list(_LEARNER_KEYS)}")
+            raise InvalidArgumentError(
+                f"unknown learner keys {sorted(unknown)}; valid: {list(_LEARNER_KEYS)}"
+            )
         return RobotPreset(
             name=str(raw.pop("name")),
             source=str(raw.pop("source")),
@@ -181,7 +186,9 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
     if name in presets and presets[name].source != "planar":
         return presets[name], None
     valid = [p.pattern for p in presets.values()]
-    close = difflib.get_close_matches(name, [*valid, *(f"{p.name}5" for p in presets.values())], n=3, cutoff=0.5)
+    close = difflib.get_close_matches(
+        name, [*valid, *(f"{p.name}5" for p in presets.values())], n=3, cutoff=0.5
+    )
     hint = f"; did you mean {', '.join(close)}?" if close else ""
     raise UnknownRobotError(f"unknown robot {name!r}{hint} Valid presets: {', '.join(valid)} (N >= 2)")
 
@@ -200,5 +207,7 @@ def load_robot(name: str) -> KinematicTarget:
         assert m is not None
         model = planar_chain(m, float(preset.options.get("total_length", 1.0)))
         home = planar_home(m)
-        return KinematicTarget(model, preset.frame, home=home, axes=preset.axes, targets=preset.targets, name=name)
+        return KinematicTarget(
+            model, preset.frame, home=home, axes=preset.axes, targets=preset.targets, name=name
+        )
     raise UnknownRobotError(f"robot {name!r}: source {preset.source!r} is not supported")

@@ -117,7 +117,9 @@ class KinematicTarget:
             raise InvalidArgumentError(f"joints must not repeat a name, got {joints!r}")
         for j in joints:
             if j not in full_names:
-                raise UnknownRobotError(f"unknown joint {j!r} in model {self.name!r}; {_closest(j, full_names)}")
+                raise UnknownRobotError(
+                    f"unknown joint {j!r} in model {self.name!r}; {_closest(j, full_names)}"
+                )
         locked = [model.getJointId(n) for n in full_names if n not in joints]
         reduced = pin.buildReducedModel(model, locked, reference) if locked else pin.Model(model)
 
@@ -201,7 +203,7 @@ class KinematicTarget:
         q_index = np.zeros(m, dtype=np.int64)
         for i, jid in enumerate(by_model_order):
             parent = model.parents[jid]
-            parents[i] = index[parent] if parent in index else -1
+            parents[i] = index.get(parent, -1)
             placement = model.jointPlacements[jid]
             rotations[i] = placement.rotation
             translations[i] = placement.translation

@@ -55,7 +55,12 @@ def efficiency_weight(x, x_prev, q, q_prev):  # type: ignore[no-untyped-def]
 
 
 def example_weight(
-    target: ArrayLike, target_prev: ArrayLike, x: ArrayLike, x_prev: ArrayLike, q: ArrayLike, q_prev: ArrayLike
+    target: ArrayLike,
+    target_prev: ArrayLike,
+    x: ArrayLike,
+    x_prev: ArrayLike,
+    q: ArrayLike,
+    q_prev: ArrayLike,
 ) -> float:
     """w = w_dir * w_eff (Eq. 6) for one goal-directed example; arrays of shape (n,) and (m,)."""
     arrays = [np.asarray(a, dtype=float) for a in (target, target_prev, x, x_prev, q, q_prev)]
