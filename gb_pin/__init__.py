@@ -21,6 +21,7 @@ from gb_pin.llm import LocalLinearMap
 from gb_pin.metrics import evaluation_schedule, speed
 from gb_pin.robots import RobotPreset, grid_targets, load_robot, planar_chain, planar_home, robots
 from gb_pin.target import KinematicTarget
+from gb_pin.trials import TrialSet, run_trials
 
 __version__ = "0.1.0"
 
@@ -37,6 +38,7 @@ __all__ = [
     "LocalLinearMap",
     "ResultFileError",
     "RobotPreset",
+    "TrialSet",
     "UnknownRobotError",
     "__version__",
     "babble",
@@ -48,6 +50,7 @@ __all__ = [
     "planar_chain",
     "planar_home",
     "robots",
+    "run_trials",
     "save_result",
     "speed",
 ]

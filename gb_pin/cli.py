@@ -1,4 +1,4 @@
-"""Command line: ``gb-pin babble | bench | robots``."""
+"""Command line: ``gb-pin babble | trials | bench | robots``."""
 
 from __future__ import annotations
 
@@ -6,6 +6,8 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+
+import numpy as np
 
 from gb_pin.exceptions import GbPinError
 
@@ -26,6 +28,9 @@ def _babble(args: argparse.Namespace) -> int:
         bar.update(r - done)
         done = r
 
+    from gb_pin.robots import get_preset
+
+    get_preset(args.robot)  # an unknown robot is reported before the kernels compile
     compile_time = warmup()
     start = time.perf_counter()
     try:
@@ -68,6 +73,45 @@ def _bench(args: argparse.Namespace) -> int:
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     rows = run_benchmark(robots, movements=args.movements, repeat=args.repeat)
     print(format_table(rows))
+    return 0
+
+
+def _trials(args: argparse.Namespace) -> int:
+    from gb_pin.trials import run_trials
+
+    babble_args = {
+        k: v
+        for k, v in (
+            ("learning_rate", args.learning_rate),
+            ("sigma", args.sigma),
+            ("sigma_delta", args.sigma_delta),
+            ("radius", args.radius),
+        )
+        if v is not None
+    }
+    start = time.perf_counter()
+    result = run_trials(
+        robot=args.robot,
+        trials=args.trials,
+        movements=args.movements,
+        seed=args.seed,
+        workers=args.workers,
+        progress=not args.quiet,
+        **babble_args,
+    )
+    wall = time.perf_counter() - start
+    e0 = result.initial_error
+    q10, q50, q90 = result.quantiles((0.1, 0.5, 0.9))[:, -1]
+    print(f"robot            {args.robot}, {result.trials} trials x {args.movements} movements")
+    print(f"E_0              {e0:.4f} m")
+    print(f"final E^X        median {q50:.5f} m (10 % {q10:.5f}, 90 % {q90:.5f})")
+    print(f"final D^home     median {np.median(result.home_distance[:, -1]):.4f} rad")
+    for q in (0.1, 0.25, 0.5, 0.75, 0.9):
+        print(f"{f'S({q}, 0.1 E_0)':<17}{result.speed(q, 0.1 * e0)}")
+    print(f"wall time        {wall:.2f} s")
+    if args.json:
+        result.save(args.json)
+        print(f"saved            {args.json}")
     return 0
 
 
@@ -116,6 +160,20 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--movements", type=int, default=2000, help="movements per run (default 2000)")
     s.add_argument("--repeat", type=int, default=3, help="runs per robot, best is reported (default 3)")
     s.set_defaults(func=_bench)
+
+    t = sub.add_parser("trials", help="independent trials in parallel, with S(Q, e) and quantiles")
+    t.add_argument("--robot", default="planar5", help="preset name (default planar5)")
+    t.add_argument("--trials", type=int, default=100, help="number of trials (default 100)")
+    t.add_argument("--movements", type=int, default=300, help="movements per trial (default 300)")
+    t.add_argument("--seed", type=int, default=0, help="seed of trial 0; trial i uses seed + i")
+    t.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    t.add_argument("--learning-rate", type=float, default=None, help="eta (default 0.1)")
+    t.add_argument("--sigma", type=float, default=None, help="exploration noise [rad] (default Eq. 12)")
+    t.add_argument("--sigma-delta", type=float, default=None, help="noise random-walk step")
+    t.add_argument("--radius", type=float, default=None, help="prototype radius d [m]")
+    t.add_argument("--json", default=None, help="write movements, error, home_distance, initial_error")
+    t.add_argument("--quiet", action="store_true", help="no progress bar")
+    t.set_defaults(func=_trials)
 
     r = sub.add_parser("robots", help="list the robot presets")
     r.set_defaults(func=_robots)
