@@ -19,6 +19,8 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from gb_pin.exceptions import InvalidArgumentError
+
 REVOLUTE = 0
 PRISMATIC = 1
 
@@ -84,9 +86,12 @@ class KinematicChain:
 
     def forward(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Task-space position of the frame for one posture ``q`` of shape (m,)."""
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        if q.shape != (self.n_joints,):
+            raise InvalidArgumentError(f"q must have shape ({self.n_joints},), got shape {q.shape}")
         out = np.empty(self.n_task)
         rot_ws, pos_ws = self.workspace()
-        chain_position(np.ascontiguousarray(q, dtype=np.float64), self.as_tuple(), rot_ws, pos_ws, out)
+        chain_position(q, self.as_tuple(), rot_ws, pos_ws, out)
         return out
 
 

@@ -174,10 +174,12 @@ class LocalLinearMap:
         """
         radius = check.positive_float("radius", self.radius)
         check.positive_float("learning_rate", self.learning_rate)
-        x0 = np.asarray(x0, dtype=float)
-        q0 = np.asarray(q0, dtype=float)
-        if x0.ndim != 1 or q0.ndim != 1:
-            raise InvalidArgumentError(f"x0 and q0 must be vectors, got shapes {x0.shape}, {q0.shape}")
+        x0 = check.vector("x0", x0, np.size(x0))
+        q0 = check.vector("q0", q0, np.size(q0))
+        if x0.size == 0 or q0.size == 0:
+            raise InvalidArgumentError(
+                f"x0 and q0 must be non-empty vectors, got shapes {x0.shape}, {q0.shape}"
+            )
         n, m = x0.shape[0], q0.shape[0]
         capacity = max(int(capacity), 1)
         self._P = np.zeros((capacity, n))
@@ -255,9 +257,8 @@ class LocalLinearMap:
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """g(x) for (N, n) inputs -> (N, m); a single (n,) input gives (m,)."""
         self._check_fitted()
-        arr = np.asarray(X, dtype=float)
-        single = arr.ndim == 1
-        pts = check.points("X", arr, self.n_inputs_)
+        pts = check.points("X", X, self.n_inputs_)
+        single = np.ndim(X) == 1
         out = np.empty((pts.shape[0], self.n_outputs_))
         llm_predict_many(pts, self._P, self._W, self._O, self._K, self._radius, self._act, out)
         return out[0] if single else out

@@ -86,6 +86,11 @@ def speed(movements: ArrayLike, errors: ArrayLike, quantile: float, level: float
     """
     mv = np.asarray(movements)
     err = np.atleast_2d(np.asarray(errors, dtype=float))
+    if mv.ndim != 1 or err.ndim != 2 or err.shape[1] != mv.shape[0]:
+        raise InvalidArgumentError(
+            f"errors must have shape (trials, {mv.shape[0] if mv.ndim == 1 else '?'}) to match movements "
+            f"of shape {mv.shape}, got {err.shape}"
+        )
     if not 0.0 < quantile <= 1.0:
         raise InvalidArgumentError(f"quantile must be in (0, 1], got {quantile!r}")
     fraction = np.mean(err <= level, axis=0)

@@ -170,9 +170,12 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
     Raises:
         UnknownRobotError: no preset of that name (the message lists the closest ones).
     """
-    if not isinstance(name, str):
-        raise UnknownRobotError(f"robot must be a preset name or a KinematicTarget, got {name!r}")
     presets = _presets()
+    valid = [p.pattern for p in presets.values()]
+    if not isinstance(name, str):
+        raise UnknownRobotError(
+            f"robot name must be a string, got {name!r}; valid presets: {', '.join(valid)}"
+        )
     for preset in presets.values():
         if preset.source != "planar":
             continue
@@ -185,12 +188,11 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
             return preset, m
     if name in presets and presets[name].source != "planar":
         return presets[name], None
-    valid = [p.pattern for p in presets.values()]
     close = difflib.get_close_matches(
         name, [*valid, *(f"{p.name}5" for p in presets.values())], n=3, cutoff=0.5
     )
-    hint = f"; did you mean {', '.join(close)}?" if close else ""
-    raise UnknownRobotError(f"unknown robot {name!r}{hint} Valid presets: {', '.join(valid)} (N >= 2)")
+    hint = f"; did you mean {', '.join(close)}?" if close else ";"
+    raise UnknownRobotError(f"unknown robot {name!r}{hint} valid presets: {', '.join(valid)} (N >= 2)")
 
 
 def load_robot(name: str) -> KinematicTarget:

@@ -52,7 +52,11 @@ def _joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float],
         return PRISMATIC, _UNIT[suffix[1]], False
     if suffix in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned", "PrismaticUnaligned"):
         axis = np.asarray(joint.extract().axis, dtype=float)
-        axis = axis / np.linalg.norm(axis)
+        if abs(np.linalg.norm(axis) - 1.0) > 1e-9:
+            raise InvalidArgumentError(
+                f"joint {name!r} has axis {axis.tolist()} of norm {np.linalg.norm(axis):.6g}; "
+                "gb_pin needs unit joint axes (normalise it in the model)"
+            )
         kind = PRISMATIC if suffix.startswith("Prismatic") else REVOLUTE
         return kind, (float(axis[0]), float(axis[1]), float(axis[2])), "Unbounded" in suffix
     raise InvalidArgumentError(
@@ -121,7 +125,23 @@ class KinematicTarget:
                     f"unknown joint {j!r} in model {self.name!r}; {_closest(j, full_names)}"
                 )
         locked = [model.getJointId(n) for n in full_names if n not in joints]
-        reduced = pin.buildReducedModel(model, locked, reference) if locked else pin.Model(model)
+        if locked:
+            # buildReducedModel needs a JOINT frame on every joint; hand-built models may lack them.
+            source = pin.Model(model)
+            framed = {f.parentJoint for f in source.frames if f.type == pin.FrameType.JOINT}
+            for jid in range(1, source.njoints):
+                if jid not in framed:
+                    source.addJointFrame(jid)
+            try:
+                reduced = pin.buildReducedModel(source, locked, reference)
+            except (ValueError, RuntimeError) as exc:
+                raise InvalidArgumentError(
+                    f"cannot lock joints {[n for n in full_names if n not in joints]} of {self.name!r}: "
+                    f"pinocchio.buildReducedModel failed ({exc}); give every joint its frame "
+                    "(Model.addJointFrame) before adding other frames"
+                ) from exc
+        else:
+            reduced = pin.Model(model)
 
         if not isinstance(frame, str) or not reduced.existFrame(frame):
             frame_names = [f.name for f in reduced.frames]
