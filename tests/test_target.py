@@ -332,18 +332,22 @@ def test_locking_works_without_any_frames() -> None:
 
     Pinocchio's buildReducedModel needs them: without, it segfaults.
     """
-    with_tip = False
     model = pin.Model()
     j = model.addJoint(0, pin.JointModelRX(), pin.SE3(np.eye(3), np.array([0.0, 0.0, 0.3])), "a")
-    k = model.addJoint(j, pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([0.0, 0.2, 0.0])), "b")
-    if with_tip:
-        model.addFrame(
-            pin.Frame("tip", k, 0, pin.SE3(np.eye(3), np.array([0.1, 0.0, 0.0])), pin.FrameType.OP_FRAME)
-        )
-    frame = "tip" if with_tip else "universe"
-    target = KinematicTarget(model, frame, joints=["b"])
+    model.addJoint(j, pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([0.0, 0.2, 0.0])), "b")
+    target = KinematicTarget(model, "b", joints=["b"])
     assert target.joints == ("b",)
     for q in (0.0, 0.7, -1.2):
         np.testing.assert_allclose(
             target.chain.forward(np.array([q])), target.forward([q]), rtol=0, atol=ATOL
         )
+
+
+def test_locking_with_frames_before_joint_frames_is_a_clear_error() -> None:
+    """A model whose frames precede its joint frames gives InvalidArgumentError, not a raw Pinocchio error."""
+    model = pin.Model()
+    j = model.addJoint(0, pin.JointModelRX(), pin.SE3.Identity(), "a")
+    k = model.addJoint(j, pin.JointModelRZ(), pin.SE3.Identity(), "b")
+    model.addFrame(pin.Frame("tip", k, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+    with pytest.raises(InvalidArgumentError, match="addJointFrame"):
+        KinematicTarget(model, "tip", joints=["b"])
