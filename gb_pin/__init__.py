@@ -7,7 +7,15 @@
 """
 
 from gb_pin.api import BabbleResult, babble
-from gb_pin.babbling import BabbleConfig, GoalBabbling, History, default_sigma
+from gb_pin.babbling import (
+    BabbleConfig,
+    BabbleState,
+    GoalBabbling,
+    History,
+    RecordedSteps,
+    Recording,
+    default_sigma,
+)
 from gb_pin.chain import KinematicChain
 from gb_pin.exceptions import (
     DivergenceError,
@@ -28,6 +36,7 @@ __version__ = "0.1.0"
 __all__ = [
     "BabbleConfig",
     "BabbleResult",
+    "BabbleState",
     "DivergenceError",
     "GbPinError",
     "GoalBabbling",
@@ -36,6 +45,8 @@ __all__ = [
     "KinematicChain",
     "KinematicTarget",
     "LocalLinearMap",
+    "RecordedSteps",
+    "Recording",
     "ResultFileError",
     "RobotPreset",
     "TrialSet",

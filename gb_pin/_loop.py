@@ -25,7 +25,8 @@ LAST_KIND = 3  # kind of the previous movement
 PROTOTYPES = 4  # K
 EVAL_CURSOR = 5  # next entry of the evaluation schedule
 STEPS = 6  # total steps t
-ISTATE_SIZE = 7
+RECORDED = 7  # entries written to the recording buffers
+ISTATE_SIZE = 8
 
 NONE = -1
 GOAL = 0
@@ -35,6 +36,7 @@ HOME = 1
 DONE = 0
 NEED_CAPACITY = 1
 NOT_FINITE = 2
+NEED_RECORD_CAPACITY = 3
 
 
 @njit(cache=True, nogil=True)
@@ -51,6 +53,7 @@ def babble_loop(  # type: ignore[no-untyped-def]
     scratch,
     schedule,
     evaluation,
+    record,
 ):
     """Run goal babbling until ``stop`` movements are complete.
 
@@ -67,9 +70,13 @@ def babble_loop(  # type: ignore[no-untyped-def]
         scratch: (q, x, target, act, g, y, J, rot_ws, pos_ws).
         schedule: (movement counts to evaluate at, eval targets (N', n)).
         evaluation: (errors, home distances) output arrays, one entry per schedule count.
+        record: (every, first, last, step, movement, posture, target, position): every
+            ``every``-th step of movements first <= r < last is written to the buffers
+            (target NaN during home returns).
 
     Returns:
-        DONE, NEED_CAPACITY (grow P, W, O and call again) or NOT_FINITE.
+        DONE, NEED_CAPACITY (grow P, W, O and call again), NEED_RECORD_CAPACITY
+        (grow the recording buffers and call again) or NOT_FINITE.
     """
     eta, sigma, sigma_delta, radius, path_length, p_home = params
     home, lower, upper, targets = problem
@@ -79,6 +86,7 @@ def babble_loop(  # type: ignore[no-untyped-def]
     q, x, target, act, g, y, J, rot_ws, pos_ws = scratch
     eval_at, eval_targets = schedule
     errors, distances = evaluation
+    rec_every, rec_first, rec_last, rec_step, rec_movement, rec_q, rec_target, rec_x = record
     L = int(path_length)
     m = home.shape[0]
     n = targets.shape[1]
@@ -114,6 +122,9 @@ def babble_loop(  # type: ignore[no-untyped-def]
             istate[STEP] = 0
         if istate[PROTOTYPES] >= capacity:
             return NEED_CAPACITY
+        recording = rec_first <= istate[MOVEMENTS] < rec_last and (istate[STEPS] + 1) % rec_every == 0
+        if recording and istate[RECORDED] >= rec_step.shape[0]:
+            return NEED_RECORD_CAPACITY
         step = istate[STEP] + 1
         kind = istate[KIND]
         a = (L - step) / L
@@ -136,6 +147,16 @@ def babble_loop(  # type: ignore[no-untyped-def]
         if not finite:
             return NOT_FINITE
         chain_position(q, chain, rot_ws, pos_ws, x)  # Eq. 1
+        if recording:
+            c = istate[RECORDED]
+            rec_step[c] = istate[STEPS] + 1
+            rec_movement[c] = istate[MOVEMENTS]
+            for i in range(m):
+                rec_q[c, i] = q[i]
+            for j in range(n):
+                rec_target[c, j] = target[j] if kind == GOAL else math.nan
+                rec_x[c, j] = x[j]
+            istate[RECORDED] = c + 1
         w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
         if kind == GOAL:
             w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6

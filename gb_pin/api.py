@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.babbling import BabbleConfig, GoalBabbling, History
+from gb_pin.babbling import BabbleConfig, BabbleState, GoalBabbling, History, RecordedSteps, Recording
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.llm import LocalLinearMap
 from gb_pin.robots import get_preset, load_robot
@@ -33,6 +33,7 @@ class BabbleResult:
         movements: movements run.
         steps: time steps run.
         wall_time: seconds spent babbling (compilation excluded after the first call).
+        recording: the recorded steps, if ``record`` was given.
     """
 
     target: KinematicTarget
@@ -45,6 +46,7 @@ class BabbleResult:
     movements: int
     steps: int
     wall_time: float
+    recording: RecordedSteps | None = None
 
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
@@ -94,6 +96,9 @@ def babble(
     eval_targets: ArrayLike | None = None,
     schedule: ArrayLike | None = None,
     callback: Callable[[int], Any] | None = None,
+    record: Recording | None = None,
+    viewer: Any | None = None,
+    observe_every: int = 1,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -116,6 +121,12 @@ def babble(
         eval_targets: evaluation set; default ``targets``.
         schedule: movement counts at which to record E^X and D^home.
         callback: called with the movement count as the run progresses.
+        record: which steps to record (postures, targets, positions) into
+            ``result.recording``, e.g. ``Recording(every=1, first=0, last=50)``.
+        viewer: an object with ``start(target, targets)`` and ``update(state)``
+            (e.g. :class:`gb_pin.viewer.Viewer`), updated every ``observe_every``
+            movements while babbling; it throttles itself.
+        observe_every: movements between viewer updates.
 
     Returns:
         A :class:`BabbleResult`.
@@ -156,6 +167,10 @@ def babble(
         path_length=pick("path_length", path_length, 25),
         p_home=pick("p_home", p_home, 0.1),
     )
+    observer: Callable[[BabbleState], Any] | None = None
+    if viewer is not None:
+        viewer.start(target, X)
+        observer = viewer.update
     start = time.perf_counter()
     learner.fit(
         target,
@@ -164,7 +179,10 @@ def babble(
         seed=seed,
         eval_targets=eval_targets,
         schedule=schedule,
+        record=record,
         callback=callback,
+        observer=observer,
+        observe_every=observe_every,
     )
     wall = time.perf_counter() - start
     int_seed = None if isinstance(seed, np.random.Generator) else int(seed)  # validated by fit
@@ -180,4 +198,5 @@ def babble(
         movements=learner.movements_,
         steps=learner.steps_,
         wall_time=wall,
+        recording=learner.recording_,
     )

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _loop
 from gb_pin import _validation as check
-from gb_pin.chain import KinematicChain, chain_position
+from gb_pin.chain import KinematicChain
 from gb_pin.exceptions import DivergenceError, InvalidArgumentError
 from gb_pin.exploration import noise_init
 from gb_pin.llm import LocalLinearMap
@@ -110,6 +110,254 @@ class History:
         return float(self.error[idx[0]]), float(self.home_distance[idx[0]])
 
 
+@dataclass(frozen=True)
+class Recording:
+    """Which steps of a run to record (for replay and viewers).
+
+    Attributes:
+        every: record every ``every``-th time step.
+        first: first movement recorded.
+        last: movements ``first <= r < last`` are recorded; None for all.
+    """
+
+    every: int = 1
+    first: int = 0
+    last: int | None = None
+
+    def __post_init__(self) -> None:
+        check.positive_int("every", self.every)
+        check.positive_int("first", self.first, minimum=0)
+        if self.last is not None:
+            check.positive_int("last", self.last, minimum=self.first)
+
+
+@dataclass(frozen=True)
+class RecordedSteps:
+    """Recorded steps of a run.
+
+    Attributes:
+        step: (R,) time step t (1-based).
+        movement: (R,) movement r the step belongs to.
+        posture: (R, m) executed posture q_t.
+        target: (R, n) target x*_t [m]; NaN during home returns.
+        position: (R, n) reached position x_t = f(q_t) [m].
+    """
+
+    step: NDArray[np.int64]
+    movement: NDArray[np.int64]
+    posture: NDArray[np.float64]
+    target: NDArray[np.float64]
+    position: NDArray[np.float64]
+
+
+class BabbleState:
+    """The complete state of a goal-babbling run: everything the compiled loop reads and writes.
+
+    Holding it in plain arrays makes a run resumable: :meth:`run` continues it, and
+    :meth:`arrays` / :meth:`from_arrays` (used by checkpoints) rebuild it exactly.
+    """
+
+    def __init__(self) -> None:
+        self.rng: np.random.Generator
+        self.config: BabbleConfig
+        self.chain: KinematicChain
+        self.home: NDArray[np.float64]
+        self.lower: NDArray[np.float64]
+        self.upper: NDArray[np.float64]
+        self.targets: NDArray[np.float64]
+        self.eval_targets: NDArray[np.float64]
+        self.schedule: NDArray[np.int64]
+        self.errors: NDArray[np.float64]
+        self.distances: NDArray[np.float64]
+        self.llm: LocalLinearMap
+        self.A: NDArray[np.float64]
+        self.b: NDArray[np.float64]
+        self.vectors: dict[str, NDArray[np.float64]]
+        self.istate: NDArray[np.int64]
+        self.record: tuple[int, int, int]
+        self.rec: dict[str, NDArray[Any]]
+
+    VECTORS = ("q_prev", "q_start", "x_prev", "target_prev", "path_start", "path_end")
+
+    @classmethod
+    def start(
+        cls,
+        kinematics: Kinematics,
+        targets: ArrayLike,
+        movements: int,
+        config: BabbleConfig,
+        *,
+        seed: int | np.random.Generator = 0,
+        eval_targets: ArrayLike | None = None,
+        schedule: ArrayLike | None = None,
+        record: Recording | None = None,
+    ) -> BabbleState:
+        """A fresh run at movement 0: the estimate is the constant q_home (paper Sec. II)."""
+        movements = check.positive_int("movements", movements)
+        st = cls()
+        st.rng = check.generator(seed)
+        st.config = config
+        st.chain = kinematics.chain
+        m, n = st.chain.n_joints, st.chain.n_task
+        st.home = check.vector("home", kinematics.home, m)
+        st.lower = np.ascontiguousarray(kinematics.lower, dtype=float)
+        st.upper = np.ascontiguousarray(kinematics.upper, dtype=float)
+        st.targets = check.points("targets", targets, n)
+        st.eval_targets = (
+            st.targets if eval_targets is None else check.points("eval_targets", eval_targets, n)
+        )
+        if schedule is None:
+            st.schedule = evaluation_schedule(movements)
+        else:
+            try:
+                at = np.unique(np.asarray(schedule, dtype=np.int64))
+            except (TypeError, ValueError) as exc:
+                raise InvalidArgumentError(f"schedule must be movement counts, got {schedule!r}") from exc
+            if at.ndim != 1 or at.size == 0 or at[0] < 0 or at[-1] > movements:
+                raise InvalidArgumentError(
+                    f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"
+                )
+            st.schedule = at
+        st.errors = np.full(st.schedule.shape[0], np.nan)
+        st.distances = np.full(st.schedule.shape[0], np.nan)
+
+        x_home = st.chain.forward(st.home)
+        st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
+            x_home, st.home
+        )
+        st.A = np.empty((m, n))
+        st.b = np.empty(m)
+        noise_init(st.rng, config.sigma, st.A, st.b)
+        # The robot starts at rest at home: previous posture, position and target are home's.
+        st.vectors = {
+            "q_prev": st.home.copy(),
+            "q_start": st.home.copy(),
+            "x_prev": x_home.copy(),
+            "target_prev": x_home.copy(),
+            "path_start": x_home.copy(),
+            "path_end": x_home.copy(),
+        }
+        st.istate = np.zeros(_loop.ISTATE_SIZE, dtype=np.int64)
+        st.istate[_loop.KIND] = _loop.NONE
+        st.istate[_loop.LAST_KIND] = _loop.NONE
+        st.istate[_loop.PROTOTYPES] = 1
+        if record is None:
+            st.record = (1, 0, 0)
+            size = 0
+        else:
+            last = movements if record.last is None else min(record.last, movements)
+            st.record = (record.every, record.first, last)
+            size = max(0, (last - record.first) * config.path_length // record.every + 1)
+        st.rec = {
+            "step": np.zeros(size, dtype=np.int64),
+            "movement": np.zeros(size, dtype=np.int64),
+            "posture": np.zeros((size, m)),
+            "target": np.zeros((size, n)),
+            "position": np.zeros((size, n)),
+        }
+        return st
+
+    @property
+    def movements(self) -> int:
+        """Completed movements r."""
+        return int(self.istate[_loop.MOVEMENTS])
+
+    @property
+    def steps(self) -> int:
+        """Completed time steps t."""
+        return int(self.istate[_loop.STEPS])
+
+    @property
+    def posture(self) -> NDArray[np.float64]:
+        """The last executed posture q_t."""
+        return self.vectors["q_prev"]
+
+    @property
+    def position(self) -> NDArray[np.float64]:
+        """The last reached position x_t [m]."""
+        return self.vectors["x_prev"]
+
+    @property
+    def target(self) -> NDArray[np.float64]:
+        """The last goal-directed target x*_t [m]."""
+        return self.vectors["target_prev"]
+
+    def run(self, stop: int) -> None:
+        """Run the compiled loop until ``stop`` movements are complete.
+
+        Raises:
+            DivergenceError: a posture became non-finite.
+        """
+        cfg = self.config
+        params = (
+            cfg.learning_rate,
+            cfg.sigma,
+            cfg.sigma_delta,
+            cfg.radius,
+            float(cfg.path_length),
+            cfg.p_home,
+        )
+        m, n = self.home.shape[0], self.targets.shape[1]
+        rot_ws, pos_ws = self.chain.workspace()
+        v = self.vectors
+        fstate = (v["q_prev"], v["q_start"], v["x_prev"], v["target_prev"], v["path_start"], v["path_end"])
+        while True:
+            llm = self.llm
+            scratch = (
+                np.empty(m),
+                np.empty(n),
+                np.empty(n),
+                llm._act,
+                llm._g,
+                llm._y,
+                llm._J,
+                rot_ws,
+                pos_ws,
+            )
+            r = self.rec
+            record = (*self.record, r["step"], r["movement"], r["posture"], r["target"], r["position"])
+            status = _loop.babble_loop(
+                self.rng, stop, params, (self.home, self.lower, self.upper, self.targets),
+                self.chain.as_tuple(), (llm._P, llm._W, llm._O), (self.A, self.b), fstate,
+                self.istate, scratch, (self.schedule, self.eval_targets), (self.errors, self.distances),
+                record,
+            )  # fmt: skip
+            llm._K = int(self.istate[_loop.PROTOTYPES])
+            if status == _loop.NEED_CAPACITY:
+                llm.reserve(2 * llm._P.shape[0])
+            elif status == _loop.NEED_RECORD_CAPACITY:
+                grow = max(16, 2 * self.rec["step"].shape[0])
+                for key, arr in self.rec.items():
+                    bigger = np.zeros((grow, *arr.shape[1:]), dtype=arr.dtype)
+                    bigger[: arr.shape[0]] = arr
+                    self.rec[key] = bigger
+            elif status == _loop.NOT_FINITE:
+                raise DivergenceError(
+                    f"the posture became non-finite at movement {self.movements} (step {self.steps}); "
+                    f"the learning rate {cfg.learning_rate!r} is likely too high for this robot"
+                )
+            else:
+                return
+
+    def history(self) -> History:
+        """E^X and D^home at the schedule's movement counts (NaN where not reached yet)."""
+        return History(movements=self.schedule, error=self.errors, home_distance=self.distances)
+
+    def recorded(self) -> RecordedSteps | None:
+        """The recorded steps so far, or None if recording was not asked for."""
+        if self.record[2] <= self.record[1]:
+            return None
+        c = int(self.istate[_loop.RECORDED])
+        r = self.rec
+        return RecordedSteps(
+            step=r["step"][:c].copy(),
+            movement=r["movement"][:c].copy(),
+            posture=r["posture"][:c].copy(),
+            target=r["target"][:c].copy(),
+            position=r["position"][:c].copy(),
+        )
+
+
 class GoalBabbling:
     """Online goal babbling learner (paper Sec. II) with a local-linear map inverse estimate.
 
@@ -124,6 +372,7 @@ class GoalBabbling:
         p_home: home-return probability (Eq. 7).
 
     Attributes:
+        state_: the :class:`BabbleState` of the run (resumable with :meth:`resume`).
         model_: the learned :class:`~gb_pin.llm.LocalLinearMap`.
         config_: the :class:`BabbleConfig` used.
         history_: the :class:`History` of the last ``fit``.
@@ -170,7 +419,10 @@ class GoalBabbling:
         seed: int | np.random.Generator = 0,
         eval_targets: ArrayLike | None = None,
         schedule: ArrayLike | None = None,
+        record: Recording | None = None,
         callback: Callable[[int], Any] | None = None,
+        observer: Callable[[BabbleState], Any] | None = None,
+        observe_every: int = 1,
     ) -> GoalBabbling:
         """Bootstrap an inverse estimate from scratch by goal babbling.
 
@@ -182,102 +434,94 @@ class GoalBabbling:
             eval_targets: where E^X and D^home are measured; default ``targets``.
             schedule: movement counts to evaluate at; default
                 :func:`~gb_pin.metrics.evaluation_schedule`.
+            record: which steps to record (postures, targets, positions); default none.
             callback: called with the movement count after each chunk (progress bars).
+            observer: called with the :class:`BabbleState` every ``observe_every``
+                movements (live viewers); it must not modify the state.
+            observe_every: movements between observer calls.
 
         Raises:
             InvalidArgumentError: a bad argument.
             DivergenceError: a posture became non-finite.
         """
-        movements = check.positive_int("movements", movements)
-        rng = check.generator(seed)
-        chain = kinematics.chain
-        m, n = chain.n_joints, chain.n_task
-        home = check.vector("home", kinematics.home, m)
-        lower = np.ascontiguousarray(kinematics.lower, dtype=float)
-        upper = np.ascontiguousarray(kinematics.upper, dtype=float)
-        X = check.points("targets", targets, n)
-        Xe = X if eval_targets is None else check.points("eval_targets", eval_targets, n)
-        if schedule is None:
-            at = evaluation_schedule(movements)
-        else:
-            at = np.unique(np.asarray(schedule, dtype=np.int64))
-            if at.size == 0 or at[0] < 0 or at[-1] > movements:
-                raise InvalidArgumentError(
-                    f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"
-                )
-        config = self._resolve(m)
-
-        chain_args = chain.as_tuple()
-        rot_ws, pos_ws = chain.workspace()
-        x_home = np.empty(n)
-        chain_position(home, chain_args, rot_ws, pos_ws, x_home)
-        llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
-            x_home, home
+        self.state_ = BabbleState.start(
+            kinematics,
+            targets,
+            movements,
+            self._resolve(kinematics.chain.n_joints),
+            seed=seed,
+            eval_targets=eval_targets,
+            schedule=schedule,
+            record=record,
         )
-        A = np.empty((m, n))
-        b = np.empty(m)
-        noise_init(rng, config.sigma, A, b)
-
-        q_prev = home.copy()
-        fstate = (q_prev, home.copy(), x_home.copy(), x_home.copy(), x_home.copy(), x_home.copy())
-        istate = np.zeros(_loop.ISTATE_SIZE, dtype=np.int64)
-        istate[_loop.KIND] = _loop.NONE
-        istate[_loop.LAST_KIND] = _loop.NONE
-        istate[_loop.PROTOTYPES] = 1
-        errors = np.full(at.shape[0], np.nan)
-        distances = np.full(at.shape[0], np.nan)
-        params = (
-            config.learning_rate,
-            config.sigma,
-            config.sigma_delta,
-            config.radius,
-            float(config.path_length),
-            config.p_home,
-        )
-        problem = (home, lower, upper, X)
-        chunk = max(1, min(movements // 100, 1000))
-        stop = 0
-        while stop < movements:
-            stop = min(movements, stop + chunk)
-            while True:
-                scratch = (
-                    np.empty(m),
-                    np.empty(n),
-                    np.empty(n),
-                    llm._act,
-                    llm._g,
-                    llm._y,
-                    llm._J,
-                    rot_ws,
-                    pos_ws,
-                )
-                status = _loop.babble_loop(
-                    rng, stop, params, problem, chain_args, (llm._P, llm._W, llm._O), (A, b),
-                    fstate, istate, scratch, (at, Xe), (errors, distances),
-                )  # fmt: skip
-                llm._K = int(istate[_loop.PROTOTYPES])
-                if status == _loop.NEED_CAPACITY:
-                    llm.reserve(2 * llm._P.shape[0])
-                    continue
-                if status == _loop.NOT_FINITE:
-                    raise DivergenceError(
-                        f"the posture became non-finite at movement {int(istate[_loop.MOVEMENTS])} "
-                        f"(step {int(istate[_loop.STEPS])}); the learning rate "
-                        f"{config.learning_rate!r} is likely too high for this robot"
-                    )
-                break
-            if callback is not None:
-                callback(stop)
-        self.model_ = llm
-        self.config_ = config
-        self.noise_ = (A, b)
-        self.movements_ = int(istate[_loop.MOVEMENTS])
-        self.steps_ = int(istate[_loop.STEPS])
-        self.history_ = History(movements=at, error=errors, home_distance=distances)
+        self.resume(movements, callback=callback, observer=observer, observe_every=observe_every)
         return self
+
+    def resume(
+        self,
+        until: int,
+        *,
+        callback: Callable[[int], Any] | None = None,
+        observer: Callable[[BabbleState], Any] | None = None,
+        observe_every: int = 1,
+    ) -> GoalBabbling:
+        """Continue the run held in ``state_`` until ``until`` movements are complete."""
+        if not hasattr(self, "state_"):
+            raise InvalidArgumentError("this GoalBabbling learner has no run to resume: call fit() first")
+        state = self.state_
+        until = check.positive_int("until", until, minimum=0)
+        observe_every = check.positive_int("observe_every", observe_every)
+        total = int(state.schedule[-1])
+        chunk = observe_every if observer is not None else max(1, min(total // 100, 1000))
+        while state.movements < until:
+            state.run(min(until, state.movements + chunk))
+            if observer is not None:
+                observer(state)
+            if callback is not None:
+                callback(state.movements)
+        return self
+
+    @property
+    def model_(self) -> LocalLinearMap:
+        """The learned local-linear map g."""
+        return self._state().llm
+
+    @property
+    def config_(self) -> BabbleConfig:
+        """The hyperparameters used."""
+        return self._state().config
+
+    @property
+    def noise_(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(A, b) of Eq. 8 now."""
+        st = self._state()
+        return st.A, st.b
+
+    @property
+    def movements_(self) -> int:
+        """Completed movements r (home returns included)."""
+        return self._state().movements
+
+    @property
+    def steps_(self) -> int:
+        """Completed time steps t."""
+        return self._state().steps
+
+    @property
+    def history_(self) -> History:
+        """E^X and D^home recorded so far (NaN where not reached yet)."""
+        return self._state().history()
+
+    @property
+    def recording_(self) -> RecordedSteps | None:
+        """The recorded steps, if recording was asked for."""
+        return self._state().recorded()
+
+    def _state(self) -> BabbleState:
+        if not hasattr(self, "state_"):
+            raise InvalidArgumentError("this GoalBabbling learner is not fitted: call fit() first")
+        return self.state_
 
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """The learned inverse estimate g(X): (N, n) -> (N, m), (n,) -> (m,)."""
-        if not hasattr(self, "model_"):
-            raise InvalidArgumentError("this GoalBabbling learner is not fitted: call fit() first")
-        return self.model_.predict(X)
+        return self._state().llm.predict(X)

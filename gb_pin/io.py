@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from gb_pin.api import BabbleResult
-from gb_pin.babbling import BabbleConfig, History
+from gb_pin.babbling import BabbleConfig, History, RecordedSteps
 from gb_pin.exceptions import GbPinError, ResultFileError
 from gb_pin.llm import LocalLinearMap
 from gb_pin.robots import load_robot
@@ -53,9 +53,20 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     }
     path = os.fspath(path)
     tmp = path + ".tmp"
+    recording = {}
+    if result.recording is not None:
+        rec = result.recording
+        recording = {
+            "rec_step": rec.step,
+            "rec_movement": rec.movement,
+            "rec_posture": rec.posture,
+            "rec_target": rec.target,
+            "rec_position": rec.position,
+        }
     with open(tmp, "wb") as fh:
         np.savez_compressed(
             fh,
+            **recording,
             meta=np.array(json.dumps(meta)),
             movements=result.history.movements,
             error=result.history.error,
@@ -85,6 +96,10 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             if missing:
                 raise ResultFileError(f"{path}: not a gb_pin result file (missing {missing})")
             arrays = {k: archive[k] for k in _KEYS}
+            rec_keys = [k for k in _REC_KEYS if k in archive.files]
+            if rec_keys and len(rec_keys) != len(_REC_KEYS):
+                raise ResultFileError(f"{path}: incomplete recording (has {rec_keys})")
+            arrays.update({k: archive[k] for k in rec_keys})
     except FileNotFoundError as exc:
         raise ResultFileError(f"{path}: no such file") from exc
     except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as exc:
@@ -93,9 +108,12 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         meta: dict[str, Any] = json.loads(str(arrays["meta"]))
     except ValueError as exc:
         raise ResultFileError(f"{path}: corrupted header ({exc})") from exc
-    if meta.get("format") != FORMAT:
-        raise ResultFileError(f"{path}: not a gb_pin result file (format {meta.get('format')!r})")
-    if meta.get("format_version", 0) > FORMAT_VERSION:
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ResultFileError(f"{path}: not a gb_pin result file (header {str(meta)[:80]!r})")
+    version = meta.get("format_version")
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise ResultFileError(f"{path}: corrupted header (format_version {version!r} is not an integer)")
+    if version > FORMAT_VERSION:
         raise ResultFileError(
             f"{path}: written by a newer gb_pin (format version {meta.get('format_version')}); "
             f"this gb_pin reads up to {FORMAT_VERSION}"
@@ -124,6 +142,21 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         model.initialize(P[0], O[0], capacity=K)
         model._P[:K], model._W[:K], model._O[:K] = P, W, O
         model._K = K
+        recording = None
+        if "rec_step" in arrays:
+            recording = RecordedSteps(
+                step=arrays["rec_step"].astype(np.int64),
+                movement=arrays["rec_movement"].astype(np.int64),
+                posture=arrays["rec_posture"].astype(float),
+                target=arrays["rec_target"].astype(float),
+                position=arrays["rec_position"].astype(float),
+            )
+            R = recording.step.shape[0]
+            if recording.posture.shape != (R, target.n_joints) or recording.target.shape != (
+                R,
+                target.n_task,
+            ):
+                raise ResultFileError(f"{path}: recording arrays of inconsistent shapes")
         history = History(
             movements=arrays["movements"].astype(np.int64),
             error=arrays["error"].astype(float),
@@ -140,6 +173,7 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             movements=int(meta["movements"]),
             steps=int(meta["steps"]),
             wall_time=float(meta["wall_time"]),
+            recording=recording,
         )
     except GbPinError as exc:
         if isinstance(exc, ResultFileError):
