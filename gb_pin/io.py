@@ -18,6 +18,7 @@ from gb_pin.target import KinematicTarget
 
 FORMAT = "gb_pin.result"
 FORMAT_VERSION = 1
+_REC_KEYS = ("rec_step", "rec_movement", "rec_posture", "rec_target", "rec_position")
 _KEYS = (
     "meta",
     "movements",
