@@ -54,7 +54,7 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     }
     path = os.fspath(path)
     tmp = path + ".tmp"
-    recording = {}
+    recording: dict[str, Any] = {}
     if result.recording is not None:
         rec = result.recording
         recording = {
