@@ -6,7 +6,7 @@
 (5,)
 """
 
-from gb_pin.api import BabbleResult, babble
+from gb_pin.api import BabbleResult, babble, resume
 from gb_pin.babbling import (
     BabbleConfig,
     BabbleState,
@@ -21,6 +21,7 @@ from gb_pin.exceptions import (
     DivergenceError,
     GbPinError,
     InvalidArgumentError,
+    NotFittedError,
     ResultFileError,
     UnknownRobotError,
 )
@@ -45,6 +46,7 @@ __all__ = [
     "KinematicChain",
     "KinematicTarget",
     "LocalLinearMap",
+    "NotFittedError",
     "RecordedSteps",
     "Recording",
     "ResultFileError",
@@ -60,6 +62,7 @@ __all__ = [
     "load_robot",
     "planar_chain",
     "planar_home",
+    "resume",
     "robots",
     "run_trials",
     "save_result",

@@ -38,6 +38,8 @@ NEED_CAPACITY = 1
 NOT_FINITE = 2
 NEED_RECORD_CAPACITY = 3
 
+MAX_POSTURE = 1e6
+
 
 @njit(cache=True, nogil=True)
 def babble_loop(  # type: ignore[no-untyped-def]
@@ -141,7 +143,8 @@ def babble_loop(  # type: ignore[no-untyped-def]
                 q[i] = a * q_start[i] + bw * home[i]
         finite = True
         for i in range(m):
-            if not math.isfinite(q[i]):
+            # A posture beyond 1e6 (rad or m) means the estimate has exploded.
+            if not (abs(q[i]) <= MAX_POSTURE):
                 finite = False
             q[i] = min(max(q[i], lower[i]), upper[i])  # the robot executes the clipped posture
         if not finite:

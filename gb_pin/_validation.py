@@ -44,17 +44,23 @@ def positive_int(name: str, value: Any, minimum: int = 1) -> int:
     return int(value)
 
 
-def points(name: str, value: Any, dim: int, *, min_rows: int = 1) -> NDArray[np.float64]:
-    """Return ``value`` as a C-contiguous float array of shape (N, dim) with finite entries."""
+def points(
+    name: str, value: Any, dim: int, *, min_rows: int = 1, allow_single: bool = False
+) -> NDArray[np.float64]:
+    """Return ``value`` as a C-contiguous float array of shape (N, dim) with finite entries.
+
+    With ``allow_single``, one point of shape (dim,) is accepted too (returned as (1, dim)).
+    """
     try:
         arr = np.array(value, dtype=np.float64, ndmin=2)
     except (TypeError, ValueError) as exc:
         raise InvalidArgumentError(
             f"{name} must be an array of shape (N, {dim}) of finite numbers, got {value!r}"
         ) from exc
-    if arr.ndim != 2 or arr.shape[1] != dim or arr.shape[0] < min_rows:
+    ndim_ok = arr.ndim == 2 and (np.ndim(value) == 2 or (allow_single and np.ndim(value) == 1))
+    if not ndim_ok or arr.shape[1] != dim or arr.shape[0] < min_rows:
         raise InvalidArgumentError(
-            f"{name} must have shape (N, {dim}) with N >= {min_rows}, got shape {arr.shape}"
+            f"{name} must have shape (N, {dim}) with N >= {min_rows}, got shape {np.shape(value)}"
         )
     if not np.all(np.isfinite(arr)):
         raise InvalidArgumentError(f"{name} must contain only finite values, got {arr.tolist()!r}")

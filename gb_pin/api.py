@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
+import threading
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -12,7 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.babbling import BabbleConfig, BabbleState, GoalBabbling, History, RecordedSteps, Recording
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import InvalidArgumentError, ResultFileError
 from gb_pin.llm import LocalLinearMap
 from gb_pin.robots import get_preset, load_robot
 from gb_pin.target import KinematicTarget
@@ -99,6 +103,8 @@ def babble(
     record: Recording | None = None,
     viewer: Any | None = None,
     observe_every: int = 1,
+    checkpoint: str | os.PathLike[str] | None = None,
+    checkpoint_every: int | None = None,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -127,6 +133,11 @@ def babble(
             (e.g. :class:`gb_pin.viewer.Viewer`), updated every ``observe_every``
             movements while babbling; it throttles itself.
         observe_every: movements between viewer updates.
+        checkpoint: write the complete state of the run to this file every
+            ``checkpoint_every`` movements and at the end (atomically); continue
+            a stopped run with :func:`resume`. Ctrl-C then writes a final
+            checkpoint before ``KeyboardInterrupt`` propagates.
+        checkpoint_every: movements between checkpoints (default: a tenth of the run).
 
     Returns:
         A :class:`BabbleResult`.
@@ -134,6 +145,7 @@ def babble(
     Raises:
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: any other bad argument.
+        DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
     defaults: dict[str, Any] = {}
     if isinstance(robot, KinematicTarget):
@@ -167,36 +179,180 @@ def babble(
         path_length=pick("path_length", path_length, 25),
         p_home=pick("p_home", p_home, 0.1),
     )
-    observer: Callable[[BabbleState], Any] | None = None
-    if viewer is not None:
-        viewer.start(target, X)
-        observer = viewer.update
-    start = time.perf_counter()
-    learner.fit(
-        target,
-        X,
-        movements,
-        seed=seed,
-        eval_targets=eval_targets,
-        schedule=schedule,
-        record=record,
-        callback=callback,
-        observer=observer,
-        observe_every=observe_every,
+    rng = check.generator(seed)
+    int_seed = None if isinstance(seed, np.random.Generator) else int(seed)
+    if checkpoint_every is not None:
+        check.positive_int("checkpoint_every", checkpoint_every)
+    runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
+    observer = _attach(viewer, target, X)
+    with _deferred_sigint(enabled=checkpoint is not None) as interrupted:
+        learner.fit(
+            target,
+            X,
+            movements,
+            seed=rng,
+            eval_targets=eval_targets,
+            schedule=schedule,
+            record=record,
+            callback=callback,
+            observer=observer,
+            observe_every=observe_every,
+            checkpoint=runner.write if checkpoint is not None else None,
+            checkpoint_every=checkpoint_every,
+            should_stop=interrupted,
+        )
+    return runner.result(learner, interrupted())
+
+
+def resume(
+    checkpoint: str | os.PathLike[str],
+    robot: KinematicTarget | None = None,
+    *,
+    callback: Callable[[int], Any] | None = None,
+    checkpoint_every: int | None = None,
+    viewer: Any | None = None,
+    observe_every: int = 1,
+) -> BabbleResult:
+    """Continue a run from its checkpoint file; it ends bit-identical to an uninterrupted run.
+
+    Args:
+        checkpoint: the file written by ``babble(..., checkpoint=...)``; it keeps
+            being updated as the run goes on.
+        robot: the KinematicTarget, needed only for runs of a custom (non-preset) target.
+        callback: called with the movement count as the run progresses.
+        checkpoint_every: movements between checkpoints (default: a tenth of the run).
+        viewer: as in :func:`babble`.
+        observe_every: movements between viewer updates.
+
+    Raises:
+        ResultFileError: missing, corrupted or foreign checkpoint, or one written for another robot.
+    """
+    from gb_pin.checkpoint import read_checkpoint
+
+    state, info = read_checkpoint(checkpoint)
+    if robot is None:
+        if info.robot is None:
+            raise InvalidArgumentError(
+                f"{os.fspath(checkpoint)}: the run used a custom KinematicTarget "
+                f"{info.target_name!r}; pass it as robot= to resume"
+            )
+        robot = load_robot(info.robot)
+    elif not isinstance(robot, KinematicTarget):
+        raise InvalidArgumentError(f"robot must be a KinematicTarget or None, got {robot!r}")
+    for f in fields(robot.chain):
+        if not np.array_equal(
+            np.asarray(getattr(robot.chain, f.name)), np.asarray(getattr(state.chain, f.name))
+        ):
+            raise ResultFileError(
+                f"{os.fspath(checkpoint)}: written for a robot whose kinematics differ from "
+                f"{robot.name!r} ({f.name} differs)"
+            )
+    if checkpoint_every is not None:
+        check.positive_int("checkpoint_every", checkpoint_every)
+    cfg = info.config
+    learner = GoalBabbling(
+        learning_rate=cfg.learning_rate,
+        sigma=cfg.sigma,
+        sigma_delta=cfg.sigma_delta,
+        radius=cfg.radius,
+        path_length=cfg.path_length,
+        p_home=cfg.p_home,
     )
-    wall = time.perf_counter() - start
-    int_seed = None if isinstance(seed, np.random.Generator) else int(seed)  # validated by fit
-    Xe = X if eval_targets is None else np.asarray(eval_targets, dtype=float)
-    return BabbleResult(
-        target=target,
-        targets=Xe,
-        history=learner.history_,
-        model=learner.model_,
-        config=learner.config_,
-        seed=int_seed,
-        robot=name,
-        movements=learner.movements_,
-        steps=learner.steps_,
-        wall_time=wall,
-        recording=learner.recording_,
-    )
+    learner.state_ = state
+    runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)
+    observer = _attach(viewer, robot, state.targets)
+    with _deferred_sigint(enabled=True) as interrupted:
+        learner.resume(
+            info.movements,
+            callback=callback,
+            observer=observer,
+            observe_every=observe_every,
+            checkpoint=runner.write,
+            checkpoint_every=checkpoint_every,
+            should_stop=interrupted,
+        )
+    return runner.result(learner, interrupted())
+
+
+def _attach(viewer: Any | None, target: KinematicTarget, targets: NDArray[np.float64]) -> Any:
+    if viewer is None:
+        return None
+    viewer.start(target, targets)
+    return viewer.update
+
+
+@contextlib.contextmanager
+def _deferred_sigint(enabled: bool) -> Iterator[Callable[[], bool]]:
+    """While active, Ctrl-C (SIGINT) only raises a flag that the run polls between chunks."""
+    flag = [False]
+    if not enabled or threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        flag[0] = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield lambda: flag[0]
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+class _Runner:
+    """Bookkeeping shared by babble() and resume(): wall time, checkpoints, the result."""
+
+    def __init__(
+        self,
+        target: KinematicTarget,
+        robot: str | None,
+        seed: int | None,
+        movements: int,
+        checkpoint: str | os.PathLike[str] | None,
+        wall_before: float,
+    ) -> None:
+        self.target = target
+        self.robot = robot
+        self.seed = seed
+        self.movements = movements
+        self.path = checkpoint
+        self.wall_before = wall_before
+        self.start = time.perf_counter()
+
+    def wall(self) -> float:
+        return self.wall_before + time.perf_counter() - self.start
+
+    def write(self, state: BabbleState) -> None:
+        from gb_pin.checkpoint import CheckpointInfo, write_checkpoint
+
+        assert self.path is not None
+        info = CheckpointInfo(
+            robot=self.robot,
+            target_name=self.target.name,
+            movements=self.movements,
+            seed=self.seed,
+            config=state.config,
+            wall_time=self.wall(),
+        )
+        write_checkpoint(self.path, state, info)
+
+    def result(self, learner: GoalBabbling, interrupted: bool) -> BabbleResult:
+        if interrupted:
+            where = os.fspath(self.path or "")
+            raise KeyboardInterrupt(
+                f"interrupted at movement {learner.movements_}; checkpoint written to {where}"
+            )
+        state = learner.state_
+        return BabbleResult(
+            target=self.target,
+            targets=state.eval_targets,
+            history=learner.history_,
+            model=learner.model_,
+            config=learner.config_,
+            seed=self.seed,
+            robot=self.robot,
+            movements=learner.movements_,
+            steps=learner.steps_,
+            wall_time=self.wall(),
+            recording=learner.recording_,
+        )

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import Any, Protocol
 
 import numpy as np
@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin import _loop
 from gb_pin import _validation as check
 from gb_pin.chain import KinematicChain
-from gb_pin.exceptions import DivergenceError, InvalidArgumentError
+from gb_pin.exceptions import DivergenceError, InvalidArgumentError, NotFittedError
 from gb_pin.exploration import noise_init
 from gb_pin.llm import LocalLinearMap
 from gb_pin.metrics import evaluation_schedule
@@ -333,11 +333,114 @@ class BabbleState:
                     self.rec[key] = bigger
             elif status == _loop.NOT_FINITE:
                 raise DivergenceError(
-                    f"the posture became non-finite at movement {self.movements} (step {self.steps}); "
-                    f"the learning rate {cfg.learning_rate!r} is likely too high for this robot"
+                    f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
+                    f"a posture became non-finite or exceeded {_loop.MAX_POSTURE:g}; the learning rate "
+                    f"{cfg.learning_rate!r} is likely too high for this robot (the paper uses 0.001-0.5)"
                 )
             else:
                 return
+
+    # -- checkpoints ------------------------------------------------------------
+    def to_arrays(self) -> dict[str, NDArray[Any]]:
+        """Every array of the state, trimmed to what is in use (for checkpoint files)."""
+        K = self.llm.n_prototypes_
+        c = int(self.istate[_loop.RECORDED])
+        out: dict[str, NDArray[Any]] = {
+            "home": self.home,
+            "lower": self.lower,
+            "upper": self.upper,
+            "targets": self.targets,
+            "eval_targets": self.eval_targets,
+            "schedule": self.schedule,
+            "errors": self.errors,
+            "distances": self.distances,
+            "prototypes": self.llm._P[:K],
+            "matrices": self.llm._W[:K],
+            "offsets": self.llm._O[:K],
+            "noise_A": self.A,
+            "noise_b": self.b,
+            "istate": self.istate,
+            "record": np.array(self.record, dtype=np.int64),
+        }
+        for key in self.VECTORS:
+            out[key] = self.vectors[key]
+        for key, arr in self.rec.items():
+            out["rec_" + key] = arr[:c]
+        for f in fields(self.chain):
+            out["chain_" + f.name] = np.asarray(getattr(self.chain, f.name))
+        return out
+
+    def rng_state(self) -> dict[str, Any]:
+        """The random generator's bit-generator state (JSON-serialisable)."""
+        return dict(self.rng.bit_generator.state)
+
+    @classmethod
+    def from_arrays(
+        cls, arrays: dict[str, NDArray[Any]], config: BabbleConfig, rng_state: dict[str, Any]
+    ) -> BabbleState:
+        """Rebuild a state written by :meth:`to_arrays` exactly (same numbers, same random stream).
+
+        Raises:
+            InvalidArgumentError: arrays missing or of inconsistent shapes.
+        """
+        try:
+            st = cls()
+            st.config = config
+            bit_generator = getattr(np.random, str(rng_state["bit_generator"]))()
+            bit_generator.state = rng_state
+            st.rng = np.random.Generator(bit_generator)
+            chain_fields: dict[str, Any] = {
+                f.name: np.ascontiguousarray(arrays["chain_" + f.name]) for f in fields(KinematicChain)
+            }
+            chain_fields["frame_parent"] = int(chain_fields["frame_parent"])
+            st.chain = KinematicChain(**chain_fields)
+            m, n = st.chain.n_joints, st.chain.n_task
+            st.home = check.vector("home", arrays["home"], m)
+            st.lower = np.ascontiguousarray(arrays["lower"], dtype=float)
+            st.upper = np.ascontiguousarray(arrays["upper"], dtype=float)
+            st.targets = check.points("targets", arrays["targets"], n)
+            st.eval_targets = check.points("eval_targets", arrays["eval_targets"], n)
+            st.schedule = np.ascontiguousarray(arrays["schedule"], dtype=np.int64)
+            st.errors = np.ascontiguousarray(arrays["errors"], dtype=float)
+            st.distances = np.ascontiguousarray(arrays["distances"], dtype=float)
+            P, W, O = arrays["prototypes"], arrays["matrices"], arrays["offsets"]
+            K = P.shape[0]
+            if K < 1 or P.shape != (K, n) or W.shape != (K, m, n) or O.shape != (K, m):
+                raise InvalidArgumentError(
+                    f"model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}"
+                )
+            st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate)
+            st.llm.initialize(P[0], O[0], capacity=max(2 * K, 256))
+            st.llm._P[:K], st.llm._W[:K], st.llm._O[:K] = P, W, O
+            st.llm._K = K
+            st.A = np.ascontiguousarray(arrays["noise_A"], dtype=float)
+            st.b = np.ascontiguousarray(arrays["noise_b"], dtype=float)
+            st.vectors = {k: np.ascontiguousarray(arrays[k], dtype=float) for k in cls.VECTORS}
+            st.istate = np.ascontiguousarray(arrays["istate"], dtype=np.int64)
+            every, first, last = (int(v) for v in arrays["record"])
+            st.record = (every, first, last)
+            st.rec = {}
+            for key, dtype in (("step", np.int64), ("movement", np.int64), ("posture", float),
+                               ("target", float), ("position", float)):  # fmt: skip
+                arr = np.asarray(arrays["rec_" + key], dtype=dtype)
+                grown = np.zeros((max(16, 2 * arr.shape[0]), *arr.shape[1:]), dtype=dtype)
+                grown[: arr.shape[0]] = arr
+                st.rec[key] = grown
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            if isinstance(exc, InvalidArgumentError):
+                raise
+            raise InvalidArgumentError(f"incomplete or inconsistent babbling state ({exc!r})") from exc
+        shapes_ok = (
+            st.A.shape == (m, n)
+            and st.b.shape == (m,)
+            and st.istate.shape == (_loop.ISTATE_SIZE,)
+            and st.errors.shape == st.schedule.shape == st.distances.shape
+            and all(st.vectors[k].shape == ((m,) if k.startswith("q") else (n,)) for k in cls.VECTORS)
+            and int(st.istate[_loop.PROTOTYPES]) == K
+        )
+        if not shapes_ok:
+            raise InvalidArgumentError("babbling state arrays of inconsistent shapes")
+        return st
 
     def history(self) -> History:
         """E^X and D^home at the schedule's movement counts (NaN where not reached yet)."""
@@ -423,6 +526,9 @@ class GoalBabbling:
         callback: Callable[[int], Any] | None = None,
         observer: Callable[[BabbleState], Any] | None = None,
         observe_every: int = 1,
+        checkpoint: Callable[[BabbleState], Any] | None = None,
+        checkpoint_every: int | None = None,
+        should_stop: Callable[[], bool] | None = None,
     ) -> GoalBabbling:
         """Bootstrap an inverse estimate from scratch by goal babbling.
 
@@ -439,10 +545,13 @@ class GoalBabbling:
             observer: called with the :class:`BabbleState` every ``observe_every``
                 movements (live viewers); it must not modify the state.
             observe_every: movements between observer calls.
+            checkpoint: called with the state every ``checkpoint_every`` movements and at the end.
+            checkpoint_every: movements between checkpoints (default: a tenth of the run).
+            should_stop: polled between chunks; True stops the run early, resumable.
 
         Raises:
             InvalidArgumentError: a bad argument.
-            DivergenceError: a posture became non-finite.
+            DivergenceError: a posture became non-finite or exploded.
         """
         self.state_ = BabbleState.start(
             kinematics,
@@ -454,7 +563,15 @@ class GoalBabbling:
             schedule=schedule,
             record=record,
         )
-        self.resume(movements, callback=callback, observer=observer, observe_every=observe_every)
+        self.resume(
+            movements,
+            callback=callback,
+            observer=observer,
+            observe_every=observe_every,
+            checkpoint=checkpoint,
+            checkpoint_every=checkpoint_every,
+            should_stop=should_stop,
+        )
         return self
 
     def resume(
@@ -464,21 +581,45 @@ class GoalBabbling:
         callback: Callable[[int], Any] | None = None,
         observer: Callable[[BabbleState], Any] | None = None,
         observe_every: int = 1,
+        checkpoint: Callable[[BabbleState], Any] | None = None,
+        checkpoint_every: int | None = None,
+        should_stop: Callable[[], bool] | None = None,
     ) -> GoalBabbling:
-        """Continue the run held in ``state_`` until ``until`` movements are complete."""
+        """Continue the run held in ``state_`` until ``until`` movements are complete.
+
+        Args:
+            until: movement count to reach.
+            callback: called with the movement count after each chunk.
+            observer: called with the state every ``observe_every`` movements.
+            observe_every: movements between observer calls.
+            checkpoint: called with the state every ``checkpoint_every`` movements and at the end.
+            checkpoint_every: movements between checkpoints.
+            should_stop: polled between chunks; when it returns True the run stops early
+                (after a checkpoint, if any), leaving a consistent, resumable state.
+        """
         if not hasattr(self, "state_"):
-            raise InvalidArgumentError("this GoalBabbling learner has no run to resume: call fit() first")
+            raise NotFittedError("this GoalBabbling learner has no run to resume: call fit() first")
         state = self.state_
         until = check.positive_int("until", until, minimum=0)
         observe_every = check.positive_int("observe_every", observe_every)
         total = int(state.schedule[-1])
         chunk = observe_every if observer is not None else max(1, min(total // 100, 1000))
+        if checkpoint is not None:
+            checkpoint_every = check.positive_int("checkpoint_every", checkpoint_every or max(1, total // 10))
+            chunk = min(chunk, checkpoint_every)
         while state.movements < until:
             state.run(min(until, state.movements + chunk))
             if observer is not None:
                 observer(state)
             if callback is not None:
                 callback(state.movements)
+            stopping = should_stop is not None and should_stop()
+            if checkpoint is not None and (
+                stopping or state.movements % checkpoint_every == 0 or state.movements >= until  # type: ignore[operator]
+            ):
+                checkpoint(state)
+            if stopping:
+                break
         return self
 
     @property
@@ -519,7 +660,7 @@ class GoalBabbling:
 
     def _state(self) -> BabbleState:
         if not hasattr(self, "state_"):
-            raise InvalidArgumentError("this GoalBabbling learner is not fitted: call fit() first")
+            raise NotFittedError("this GoalBabbling learner is not fitted: call fit() first")
         return self.state_
 
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:

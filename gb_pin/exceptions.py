@@ -19,6 +19,13 @@ class InvalidArgumentError(GbPinError, ValueError):
     """
 
 
+class NotFittedError(InvalidArgumentError, AttributeError):
+    """A learned attribute or prediction was asked of a learner that has not learned yet.
+
+    Subclasses AttributeError too (as scikit-learn's does), so ``hasattr`` answers False.
+    """
+
+
 class UnknownRobotError(InvalidArgumentError):
     """A robot name, frame or joint name that gb_pin does not know."""
 

@@ -36,7 +36,8 @@ def noise_init(rng, sigma, A, b):  # type: ignore[no-untyped-def]
 @njit(cache=True, nogil=True)
 def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
     """One step of the normalised Gaussian random walk on every entry (Eq. 8)."""
-    shrink = math.sqrt(sigma * sigma / (sigma * sigma + sigma_delta * sigma_delta)) if sigma > 0.0 else 0.0
+    # sqrt(sigma^2 / (sigma^2 + sigma_delta^2)), written so that it cannot overflow.
+    shrink = 1.0 / math.sqrt(1.0 + (sigma_delta / sigma) ** 2) if sigma > 0.0 else 0.0
     m, n = A.shape
     for i in range(m):
         for j in range(n):

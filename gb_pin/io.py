@@ -5,12 +5,14 @@ from __future__ import annotations
 import json
 import os
 import zipfile
+import zlib
 from typing import Any
 
 import numpy as np
 
 from gb_pin.api import BabbleResult
 from gb_pin.babbling import BabbleConfig, History, RecordedSteps
+from gb_pin.checkpoint import atomic_savez, open_npz
 from gb_pin.exceptions import GbPinError, ResultFileError
 from gb_pin.llm import LocalLinearMap
 from gb_pin.robots import load_robot
@@ -34,7 +36,7 @@ _KEYS = (
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     """Write ``result`` to ``path`` (an ``.npz`` archive of plain arrays and a JSON header).
 
-    The file is written to a temporary name and renamed, so a crash never leaves half a file.
+    The file is written to a temporary name, flushed and renamed, so a crash never leaves half a file.
     """
     from gb_pin import __version__
 
@@ -53,7 +55,6 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         "wall_time": result.wall_time,
     }
     path = os.fspath(path)
-    tmp = path + ".tmp"
     recording: dict[str, Any] = {}
     if result.recording is not None:
         rec = result.recording
@@ -64,20 +65,21 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
             "rec_target": rec.target,
             "rec_position": rec.position,
         }
-    with open(tmp, "wb") as fh:
-        np.savez_compressed(
-            fh,
+    atomic_savez(
+        path,
+        {
             **recording,
-            meta=np.array(json.dumps(meta)),
-            movements=result.history.movements,
-            error=result.history.error,
-            home_distance=result.history.home_distance,
-            targets=result.targets,
-            prototypes=result.model.prototypes_,
-            matrices=result.model.matrices_,
-            offsets=result.model.offsets_,
-        )
-    os.replace(tmp, path)
+            "meta": np.array(json.dumps(meta)),
+            "movements": result.history.movements,
+            "error": result.history.error,
+            "home_distance": result.history.home_distance,
+            "targets": result.targets,
+            "prototypes": result.model.prototypes_,
+            "matrices": result.model.matrices_,
+            "offsets": result.model.offsets_,
+        },
+        compress=True,
+    )
 
 
 def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
@@ -92,7 +94,7 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
     """
     path = os.fspath(path)
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with open_npz(path) as archive:
             missing = [k for k in _KEYS if k not in archive.files]
             if missing:
                 raise ResultFileError(f"{path}: not a gb_pin result file (missing {missing})")
@@ -103,7 +105,9 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             arrays.update({k: archive[k] for k in rec_keys})
     except FileNotFoundError as exc:
         raise ResultFileError(f"{path}: no such file") from exc
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as exc:
+    except ResultFileError:
+        raise
+    except (OSError, ValueError, TypeError, zipfile.BadZipFile, zlib.error, EOFError, KeyError) as exc:
         raise ResultFileError(f"{path}: unreadable or corrupted result file ({exc})") from exc
     try:
         meta: dict[str, Any] = json.loads(str(arrays["meta"]))

@@ -25,7 +25,7 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import InvalidArgumentError, NotFittedError
 
 
 @njit(cache=True, nogil=True)
@@ -213,7 +213,7 @@ class LocalLinearMap:
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "_K"):
-            raise InvalidArgumentError(
+            raise NotFittedError(
                 "this LocalLinearMap is not initialised: call initialize(x0, q0) first"
             )
 
@@ -257,7 +257,7 @@ class LocalLinearMap:
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """g(x) for (N, n) inputs -> (N, m); a single (n,) input gives (m,)."""
         self._check_fitted()
-        pts = check.points("X", X, self.n_inputs_)
+        pts = check.points("X", X, self.n_inputs_, allow_single=True)
         single = np.ndim(X) == 1
         out = np.empty((pts.shape[0], self.n_outputs_))
         llm_predict_many(pts, self._P, self._W, self._O, self._K, self._radius, self._act, out)
