@@ -390,9 +390,11 @@ class BabbleState:
             bit_generator.state = rng_state
             st.rng = np.random.Generator(bit_generator)
             chain_fields: dict[str, Any] = {
-                f.name: np.ascontiguousarray(arrays["chain_" + f.name]) for f in fields(KinematicChain)
+                f.name: np.ascontiguousarray(arrays["chain_" + f.name])
+                for f in fields(KinematicChain)
+                if f.name != "frame_parent"
             }
-            chain_fields["frame_parent"] = int(chain_fields["frame_parent"])
+            chain_fields["frame_parent"] = int(arrays["chain_frame_parent"])
             st.chain = KinematicChain(**chain_fields)
             m, n = st.chain.n_joints, st.chain.n_task
             st.home = check.vector("home", arrays["home"], m)
@@ -609,15 +611,16 @@ class GoalBabbling:
             chunk = min(chunk, checkpoint_every)
         while state.movements < until:
             state.run(min(until, state.movements + chunk))
-            if observer is not None:
-                observer(state)
-            if callback is not None:
-                callback(state.movements)
+            # The checkpoint comes first, so that a failing observer or callback loses nothing.
             stopping = should_stop is not None and should_stop()
             if checkpoint is not None and (
                 stopping or state.movements % checkpoint_every == 0 or state.movements >= until  # type: ignore[operator]
             ):
                 checkpoint(state)
+            if observer is not None:
+                observer(state)
+            if callback is not None:
+                callback(state.movements)
             if stopping:
                 break
         return self

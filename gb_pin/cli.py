@@ -9,22 +9,37 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from gb_pin.exceptions import GbPinError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 
 def _babble(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from gb_pin.api import babble, warmup
+    from gb_pin.api import babble, resume, warmup
+    from gb_pin.checkpoint import read_checkpoint
 
+    if args.resume:
+        # The robot and the run's length come from the checkpoint.
+        state, info = read_checkpoint(args.resume)
+        if info.robot is None:
+            raise InvalidArgumentError(
+                f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume)"
+            )
+        args.robot, args.movements, args.seed = info.robot, info.movements, info.seed
     bar = None
-    done = 0
+    done = state.movements if args.resume else 0
 
     def progress(r: int) -> None:
         # Created on the first report, so that argument errors are not preceded by a bar.
         nonlocal bar, done
         if bar is None:
-            bar = tqdm(total=args.movements, unit="mv", desc=f"babbling {args.robot}", disable=args.quiet)
+            bar = tqdm(
+                total=args.movements,
+                initial=done,
+                unit="mv",
+                desc=f"babbling {args.robot}",
+                disable=args.quiet,
+            )
         bar.update(r - done)
         done = r
 
@@ -34,18 +49,23 @@ def _babble(args: argparse.Namespace) -> int:
     compile_time = warmup()
     start = time.perf_counter()
     try:
-        result = babble(
-            robot=args.robot,
-            movements=args.movements,
-            seed=args.seed,
-            learning_rate=args.learning_rate,
-            sigma=args.sigma,
-            sigma_delta=args.sigma_delta,
-            radius=args.radius,
-            path_length=args.path_length,
-            p_home=args.p_home,
-            callback=progress,
-        )
+        if args.resume:
+            result = resume(args.resume, callback=progress, checkpoint_every=args.checkpoint_every)
+        else:
+            result = babble(
+                robot=args.robot,
+                movements=args.movements,
+                seed=args.seed,
+                learning_rate=args.learning_rate,
+                sigma=args.sigma,
+                sigma_delta=args.sigma_delta,
+                radius=args.radius,
+                path_length=args.path_length,
+                p_home=args.p_home,
+                callback=progress,
+                checkpoint=args.checkpoint,
+                checkpoint_every=args.checkpoint_every,
+            )
     finally:
         if bar is not None:
             bar.close()
@@ -152,6 +172,15 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--path-length", type=int, default=None, help="steps per movement L (default 25)")
     b.add_argument("--p-home", type=float, default=None, help="home-return probability (default 0.1)")
     b.add_argument("--out", default=None, help="save the result to this .npz file")
+    b.add_argument(
+        "--checkpoint", default=None, help="write the run's complete state to this file as it goes (atomic)"
+    )
+    b.add_argument("--checkpoint-every", type=int, default=None, help="movements between checkpoints")
+    b.add_argument(
+        "--resume",
+        default=None,
+        help="continue the run of this checkpoint (bit-identical to an uninterrupted run)",
+    )
     b.add_argument("--quiet", action="store_true", help="no progress bar")
     b.set_defaults(func=_babble)
 
@@ -189,8 +218,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except GbPinError as exc:
         print(f"gb-pin: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("gb-pin: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        print(f"gb-pin: {exc or 'interrupted'}", file=sys.stderr)
         return 130
 
 
