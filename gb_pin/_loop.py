@@ -41,7 +41,7 @@ NEED_RECORD_CAPACITY = 3
 MAX_POSTURE = 1e6
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def babble_loop(  # type: ignore[no-untyped-def]
     rng,
     stop,

@@ -332,10 +332,13 @@ class BabbleState:
                     bigger[: arr.shape[0]] = arr
                     self.rec[key] = bigger
             elif status == _loop.NOT_FINITE:
+                reach = float(np.max(np.abs(self.targets)))
                 raise DivergenceError(
                     f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
-                    f"a posture became non-finite or exceeded {_loop.MAX_POSTURE:g}; the learning rate "
-                    f"{cfg.learning_rate!r} is likely too high for this robot (the paper uses 0.001-0.5)"
+                    f"a posture became non-finite or exceeded {_loop.MAX_POSTURE:g}. Likely causes: "
+                    f"learning_rate={cfg.learning_rate!r} too high (the paper uses 0.001-0.5), "
+                    f"sigma={cfg.sigma!r} too large, or targets far outside the robot's reach "
+                    f"(largest |coordinate| {reach:.3g} m)"
                 )
             else:
                 return

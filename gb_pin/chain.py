@@ -95,7 +95,7 @@ class KinematicChain:
         return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def chain_position(q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
     """Write the frame's task-space position for posture ``q`` into ``out``.
 

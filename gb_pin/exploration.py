@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from gb_pin import _validation as check
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def noise_init(rng, sigma, A, b):  # type: ignore[no-untyped-def]
     """Draw A_0 and b_0 with i.i.d. N(0, sigma^2) entries (Eq. 8)."""
     m, n = A.shape
@@ -33,7 +33,7 @@ def noise_init(rng, sigma, A, b):  # type: ignore[no-untyped-def]
         b[i] = sigma * rng.standard_normal()
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
     """One step of the normalised Gaussian random walk on every entry (Eq. 8)."""
     # sqrt(sigma^2 / (sigma^2 + sigma_delta^2)), written so that it cannot overflow.
@@ -46,7 +46,7 @@ def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
         b[i] = shrink * (b[i] + sigma_delta * rng.standard_normal())
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def noise_add(A, b, x, q):  # type: ignore[no-untyped-def]
     """q += A x + b (Eq. 2 adds E_t(x*_t) to the inverse estimate)."""
     m, n = A.shape

@@ -28,7 +28,7 @@ from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, NotFittedError
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def llm_predict(x, P, W, O, K, radius, act, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
@@ -63,7 +63,7 @@ def llm_predict(x, P, W, O, K, radius, act, out):  # type: ignore[no-untyped-def
     return total, smallest
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def llm_jacobian(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
     """dg/dx into ``J`` (m, n) and g(x) into ``g`` (m,), responsibilities' derivative included.
 
@@ -93,7 +93,7 @@ def llm_jacobian(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untype
             J[i, j] *= inv
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def llm_insert(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 
@@ -111,7 +111,7 @@ def llm_insert(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-
     return K + 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def llm_learn(x, q, w, eta, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
     """One online step on the example (x, q) with weight w; returns the new prototype count.
 
@@ -141,7 +141,7 @@ def llm_learn(x, q, w, eta, P, W, O, K, radius, act, g, y, J):  # type: ignore[n
     return K
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def llm_predict_many(X, P, W, O, K, radius, act, out):  # type: ignore[no-untyped-def]
     """g(x) for every row of X (N, n) into out (N, m)."""
     for r in range(X.shape[0]):

@@ -21,7 +21,7 @@ from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.llm import llm_predict
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def evaluate_model(  # type: ignore[no-untyped-def]
     targets, home, lower, upper, chain, rot_ws, pos_ws, P, W, O, K, radius, act, q, x
 ):

@@ -18,7 +18,7 @@ from numba import njit
 from numpy.typing import ArrayLike
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def direction_weight(target, target_prev, x, x_prev):  # type: ignore[no-untyped-def]
     """w_dir of Eq. 4 from the intended and the observed displacement."""
     dot = 0.0
@@ -30,15 +30,17 @@ def direction_weight(target, target_prev, x, x_prev):  # type: ignore[no-untyped
         dot += a * b
         na += a * a
         nb += b * b
-    if na == 0.0 or nb == 0.0:
+    # sqrt(na) * sqrt(nb), not sqrt(na * nb): the product of two tiny squares can underflow to 0.
+    norms = math.sqrt(na) * math.sqrt(nb)
+    if norms == 0.0:
         return 0.5
-    cos = dot / math.sqrt(na * nb)
+    cos = dot / norms
     # Rounding can push |cos| a hair above 1.
     cos = min(1.0, max(-1.0, cos))
     return 0.5 * (1.0 + cos)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def efficiency_weight(x, x_prev, q, q_prev):  # type: ignore[no-untyped-def]
     """w_eff of Eq. 5: effector displacement per joint displacement (0 if q did not move)."""
     dq = 0.0

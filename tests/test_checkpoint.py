@@ -99,7 +99,7 @@ def test_checkpoint_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPa
 def test_divergence_keeps_the_last_good_checkpoint(tmp_path: Path) -> None:
     """An exploding run stops with DivergenceError naming the movement; the last checkpoint stays valid."""
     path = tmp_path / "run.ckpt"
-    with pytest.raises(gb_pin.DivergenceError, match=r"movement \d+.*learning rate 1000000\.0"):
+    with pytest.raises(gb_pin.DivergenceError, match=r"movement \d+.*learning_rate=1000000\.0"):
         gb_pin.babble(
             "planar5", movements=200, seed=0, learning_rate=1e6, checkpoint=path, checkpoint_every=1
         )
