@@ -2,17 +2,14 @@
 
 from __future__ import annotations
 
-import json
 import os
-import zipfile
-import zlib
 from typing import Any
 
 import numpy as np
 
+from gb_pin._archive import atomic_savez, read_archive
 from gb_pin.api import BabbleResult
 from gb_pin.babbling import BabbleConfig, History, RecordedSteps
-from gb_pin.checkpoint import atomic_savez, open_npz
 from gb_pin.exceptions import GbPinError, ResultFileError
 from gb_pin.llm import LocalLinearMap
 from gb_pin.robots import load_robot
@@ -38,12 +35,9 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
 
     The file is written to a temporary name, flushed and renamed, so a crash never leaves half a file.
     """
-    from gb_pin import __version__
-
     meta = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
-        "gb_pin_version": __version__,
         "robot": result.robot,
         "target_name": result.target.name,
         "n_joints": result.target.n_joints,
@@ -69,7 +63,6 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         path,
         {
             **recording,
-            "meta": np.array(json.dumps(meta)),
             "movements": result.history.movements,
             "error": result.history.error,
             "home_distance": result.history.home_distance,
@@ -78,6 +71,7 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
             "matrices": result.model.matrices_,
             "offsets": result.model.offsets_,
         },
+        meta,
         compress=True,
     )
 
@@ -93,36 +87,10 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
     """
     path = os.fspath(path)
-    try:
-        with open_npz(path) as archive:
-            missing = [k for k in _KEYS if k not in archive.files]
-            if missing:
-                raise ResultFileError(f"{path}: not a gb_pin result file (missing {missing})")
-            arrays = {k: archive[k] for k in _KEYS}
-            rec_keys = [k for k in _REC_KEYS if k in archive.files]
-            if rec_keys and len(rec_keys) != len(_REC_KEYS):
-                raise ResultFileError(f"{path}: incomplete recording (has {rec_keys})")
-            arrays.update({k: archive[k] for k in rec_keys})
-    except FileNotFoundError as exc:
-        raise ResultFileError(f"{path}: no such file") from exc
-    except ResultFileError:
-        raise
-    except (OSError, ValueError, TypeError, zipfile.BadZipFile, zlib.error, EOFError, KeyError) as exc:
-        raise ResultFileError(f"{path}: unreadable or corrupted result file ({exc})") from exc
-    try:
-        meta: dict[str, Any] = json.loads(str(arrays["meta"]))
-    except ValueError as exc:
-        raise ResultFileError(f"{path}: corrupted header ({exc})") from exc
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ResultFileError(f"{path}: not a gb_pin result file (header {str(meta)[:80]!r})")
-    version = meta.get("format_version")
-    if not isinstance(version, int) or isinstance(version, bool):
-        raise ResultFileError(f"{path}: corrupted header (format_version {version!r} is not an integer)")
-    if version > FORMAT_VERSION:
-        raise ResultFileError(
-            f"{path}: written by a newer gb_pin (format version {meta.get('format_version')}); "
-            f"this gb_pin reads up to {FORMAT_VERSION}"
-        )
+    arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
+    rec_keys = [k for k in _REC_KEYS if k in arrays]
+    if rec_keys and len(rec_keys) != len(_REC_KEYS):
+        raise ResultFileError(f"{path}: incomplete recording (has {rec_keys})")
     try:
         if target is None:
             if meta["robot"] is None:

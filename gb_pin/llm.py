@@ -213,9 +213,7 @@ class LocalLinearMap:
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "_K"):
-            raise NotFittedError(
-                "this LocalLinearMap is not initialised: call initialize(x0, q0) first"
-            )
+            raise NotFittedError("this LocalLinearMap is not initialised: call initialize(x0, q0) first")
 
     @property
     def n_prototypes_(self) -> int:

@@ -322,7 +322,12 @@ class KinematicTarget:
         Returns:
             (n,) or (N, n) positions [m].
         """
-        arr = np.asarray(q, dtype=float)
+        try:
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InvalidArgumentError(
+                f"q must be a posture ({self.n_joints},) or postures (N, {self.n_joints}), got {q!r}"
+            ) from exc
         single = arr.ndim == 1
         arr2 = np.atleast_2d(arr)
         if arr2.ndim != 2 or arr2.shape[1] != self.n_joints:
