@@ -96,3 +96,109 @@ def test_bad_arguments_name_the_parameter(kwargs, name) -> None:  # type: ignore
     args = {"robot": "planar3", "trials": 2, "movements": 5, "workers": 1, **kwargs}
     with pytest.raises(gb_pin.InvalidArgumentError, match=name):
         gb_pin.run_trials(**args)
+
+
+def test_sweep_grid_equals_separate_trials() -> None:
+    """run_sweep over a grid gives, per condition, exactly run_trials of that condition."""
+    sweep = gb_pin.run_sweep(
+        robot="planar3", learning_rate=[0.05, 0.5], trials=3, movements=15, seed=2, workers=2
+    )
+    assert [c.label for c in sweep.conditions] == ["planar3 learning_rate=0.05", "planar3 learning_rate=0.5"]
+    for condition, ts in sweep:
+        alone = gb_pin.run_trials(
+            "planar3",
+            trials=3,
+            movements=15,
+            seed=2,
+            workers=1,
+            learning_rate=condition.parameters["learning_rate"],
+        )
+        np.testing.assert_array_equal(ts.error, alone.error)
+        np.testing.assert_array_equal(ts.home_distance, alone.home_distance)
+        assert ts.parameters == condition.parameters
+
+
+def test_sweep_conditions_keep_their_own_length_and_schedule(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """A Condition's movements and schedule override the sweep's; the sweep saves and loads as JSON."""
+    conditions = [
+        gb_pin.Condition("planar2", {"learning_rate": 0.2}, movements=12, schedule=(5, 12)),
+        gb_pin.Condition("planar4"),
+    ]
+    sweep = gb_pin.run_sweep(conditions, trials=2, movements=8, seed=0, workers=1)
+    assert sweep[0].movements.tolist() == [0, 5, 12]
+    assert sweep[1].movements[-1] == 8
+    single = gb_pin.babble("planar2", movements=12, seed=1, learning_rate=0.2, schedule=[0, 5, 12])
+    np.testing.assert_array_equal(sweep[0].error[1], single.history.error)
+    sweep.save(tmp_path / "s.json")
+    back = gb_pin.Sweep.load(tmp_path / "s.json")
+    assert back.conditions == sweep.conditions
+    for a, b in zip(back.results, sweep.results, strict=True):
+        np.testing.assert_array_equal(a.error, b.error)
+    with pytest.raises(gb_pin.ResultFileError, match="not a gb_pin sweep file"):
+        gb_pin.Sweep.load(_trials_file(tmp_path))
+
+
+def _trials_file(tmp_path) -> str:  # type: ignore[no-untyped-def]
+    path = tmp_path / "t.json"
+    gb_pin.run_trials("planar2", trials=1, movements=2, workers=1).save(path)
+    return str(path)
+
+
+def test_conditions_grid_is_the_cartesian_product() -> None:
+    """conditions_grid lists robots slowest, then the arguments in the order given."""
+    grid = gb_pin.conditions_grid(["planar2", "planar3"], learning_rate=[0.1, 0.2], radius=0.05)
+    assert [(c.robot, c.parameters["learning_rate"]) for c in grid] == [
+        ("planar2", 0.1),
+        ("planar2", 0.2),
+        ("planar3", 0.1),
+        ("planar3", 0.2),
+    ]
+    assert all(c.parameters["radius"] == 0.05 for c in grid)
+    assert len(set(grid)) == 4  # conditions are hashable (used as keys by the reproduction)
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: gb_pin.run_sweep(robot="planar3", bogus=[1, 2]), "bogus"),
+        (lambda: gb_pin.run_sweep([gb_pin.Condition("planar3")], robot="planar3"), "either conditions"),
+        (lambda: gb_pin.run_sweep([]), "at least one condition"),
+        (lambda: gb_pin.run_sweep(robot="planar3", learning_rate=[]), "learning_rate"),
+        (lambda: gb_pin.run_sweep([gb_pin.Condition("planar3", {"sigma": -1.0})], trials=1), "sigma"),
+        (lambda: gb_pin.run_sweep([gb_pin.Condition("planar3", movements=0)], trials=1), "movements"),
+        (lambda: gb_pin.run_trials("planar3", trials=1, movements=5, schedule=[3, 9]), "schedule"),
+        (
+            lambda: gb_pin.run_trials("planar3", trials=1, movements=5, workers=2, scheduler="tcp://x:1"),
+            "workers",
+        ),
+    ],
+)
+def test_bad_sweep_arguments_are_reported_before_running(call, name) -> None:  # type: ignore[no-untyped-def]
+    """Bad sweep conditions raise the package's ValueError naming the culprit, before any trial runs."""
+    with pytest.raises(gb_pin.InvalidArgumentError, match=name):
+        call()
+
+
+def test_tasks_carry_only_plain_values(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """A cluster worker receives a preset name, numbers and a small array, no model (pickled < 2 kB)."""
+    import pickle
+
+    import gb_pin.distributed
+
+    seen = []
+
+    def fake_map_tasks(fn, tasks, scheduler, on_result, *, priorities=None):  # type: ignore[no-untyped-def]
+        for i, task in enumerate(tasks):
+            seen.append(task)
+            on_result(i, fn(*task))
+
+    monkeypatch.setattr(gb_pin.distributed, "map_tasks", fake_map_tasks)
+    ts = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, scheduler="tcp://unused:8786")
+    local = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, workers=1)
+    np.testing.assert_array_equal(ts.error, local.error)
+    assert len(seen) == 2
+    for robot, movements, seed, schedule, kwargs in seen:
+        assert isinstance(robot, str) and isinstance(movements, int) and isinstance(seed, int)
+        assert isinstance(schedule, np.ndarray) and schedule.dtype == np.int64
+        assert isinstance(kwargs, dict)
+        assert len(pickle.dumps((robot, movements, seed, schedule, kwargs))) < 2000

@@ -1,0 +1,112 @@
+"""Run trials and sweeps on a Dask cluster (``pip install "gb_pin[cluster]"``).
+
+:func:`gb_pin.run_trials` and :func:`gb_pin.run_sweep` take ``scheduler=``: a
+scheduler address such as ``"tcp://host:8786"``, a ``dask.distributed.Client``, or
+a cluster object (e.g. ``LocalCluster``). Each trial is one Dask task whose
+arguments are the robot's preset name, the movement count, the seed, the movement
+counts to record and the babble parameters: a few hundred bytes. Workers build the
+robot from its name (``gb_pin`` must be installed on them), so no Pinocchio model,
+let alone a visual geometry model, ever travels. Trial i uses seed ``seed + i``
+wherever it runs, so a cluster gives the same numbers as a local run, bit for bit,
+when the workers run the same gb_pin, numpy and numba on the same CPU architecture.
+
+A cluster, for example::
+
+    dask scheduler                                   # on the head node, port 8786
+    dask worker tcp://head:8786 --nworkers 16 --nthreads 1   # on each worker node
+    gb-pin trials --robot planar50 --movements 1000000 --scheduler tcp://head:8786
+
+Dask is imported only here, and only when a scheduler is given: local runs need no Dask.
+"""
+
+from __future__ import annotations
+
+import uuid
+from collections.abc import Callable, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+from gb_pin.exceptions import GbPinError, InvalidArgumentError
+
+CONNECT_TIMEOUT = 20.0  # [s] to reach a scheduler before giving up
+
+
+def _import_distributed() -> Any:
+    try:
+        import distributed
+    except ImportError as exc:
+        raise GbPinError(
+            'running on a Dask cluster needs dask.distributed: pip install "gb_pin[cluster]" '
+            f"(import failed: {exc})"
+        ) from exc
+    return distributed
+
+
+@contextmanager
+def client_for(scheduler: Any, timeout: float | None = None) -> Any:
+    """A ``dask.distributed.Client`` for ``scheduler``; one this function opened is closed on exit.
+
+    Args:
+        scheduler: an address (``"tcp://host:8786"``), a ``Client`` (used as is, left
+            open), or a cluster object with a ``scheduler_address`` (e.g. ``LocalCluster``).
+        timeout: seconds to wait for the scheduler [s]; default :data:`CONNECT_TIMEOUT`.
+
+    Raises:
+        GbPinError: Dask is not installed, or the scheduler cannot be reached.
+        InvalidArgumentError: ``scheduler`` is none of the above.
+    """
+    distributed = _import_distributed()
+    if isinstance(scheduler, distributed.Client):
+        yield scheduler
+        return
+    address = getattr(scheduler, "scheduler_address", scheduler)
+    if not isinstance(address, str) or not address:
+        raise InvalidArgumentError(
+            f"scheduler must be a Dask scheduler address like 'tcp://host:8786', a dask.distributed.Client "
+            f"or a cluster object, got {scheduler!r}"
+        )
+    try:
+        wait = CONNECT_TIMEOUT if timeout is None else timeout
+        client = distributed.Client(address, timeout=wait, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise GbPinError(f"cannot connect to the Dask scheduler {address!r}: {exc}") from exc
+    try:
+        yield client
+    finally:
+        client.close()
+
+
+def map_tasks(
+    fn: Callable[..., Any],
+    tasks: Sequence[tuple[Any, ...]],
+    scheduler: Any,
+    on_result: Callable[[int, Any], None],
+    *,
+    priorities: Sequence[float] | None = None,
+) -> None:
+    """Run ``fn(*task)`` for every task on a Dask cluster; call ``on_result(index, output)`` as each ends.
+
+    Args:
+        fn: a module-level function (workers import it by name).
+        tasks: plain-value argument tuples.
+        scheduler: see :func:`client_for`.
+        on_result: receives the task's index and its output, in completion order.
+        priorities: per task; the cluster starts higher values first (e.g. the longest trials).
+
+    Raises:
+        Whatever a task raised (e.g. :class:`~gb_pin.exceptions.DivergenceError`); the
+        remaining tasks are cancelled.
+    """
+    distributed = _import_distributed()
+    run = uuid.uuid4().hex[:12]
+    with client_for(scheduler) as client:
+        futures = {}
+        for i, task in enumerate(tasks):
+            priority = 0 if priorities is None else int(priorities[i])
+            fut = client.submit(fn, *task, key=f"gb_pin-trial-{run}-{i}", pure=False, priority=priority)
+            futures[fut] = i
+        try:
+            for fut in distributed.as_completed(list(futures), loop=client.loop):
+                on_result(futures[fut], fut.result())
+        finally:
+            client.cancel(list(futures))
