@@ -589,6 +589,13 @@ def _fmt(v: Any, digits: int = 3) -> str:
     return f"{v:,}" if isinstance(v, int) else str(v)
 
 
+def _vs(v: Any, paper: float) -> str:
+    """A number with its relative difference to the paper's, e.g. ``0.039 (-3 %)``."""
+    if v is None:
+        return "not reached"
+    return f"{_fmt(v)} ({100.0 * (v - paper) / paper:+.0f} %)"
+
+
 def _within(v: Any, lo: float | None, hi: float | None) -> str:
     if v is None:
         return "no"
@@ -604,18 +611,19 @@ def paper_table(numbers: dict[str, Any]) -> list[list[str]]:
         n = f4["settings"]
         c1, c01 = f4["curves"]["0.1"], f4["curves"]["0.01"]
         tr = f"{n['trials']} trials"
+        e100 = c1["median_error_at_100"]
         rows.append(
-            ["planar5, η 0.1: median E^X after 100 movements [m]", "≈ 0.04", _fmt(c1["median_error_at_100"]),
-             "[0.03, 0.055]", _within(c1["median_error_at_100"], 0.03, 0.055), tr]
+            ["planar5, η 0.1: median E^X after 100 movements [m]", "≈ 0.04",
+             _vs(e100, 0.04), "[0.03, 0.055]", _within(e100, 0.03, 0.055), tr]
         )  # fmt: skip
         v = c01["first_median_le_0.04"]
         rows.append(
-            ["planar5, η 0.01: first movement count with median E^X ≤ 0.04 m", "≈ 2000", _fmt(v),
+            ["planar5, η 0.01: first movement count with median E^X ≤ 0.04 m", "≈ 2000", _vs(v, 2000),
              "[1400, 3000]", _within(v, 1400, 3000), f"{tr}, run to {c01['length']:,}"]
         )  # fmt: skip
         rows.append(
             ["speed-up η 0.1 over η 0.01 (ratio of the counts to median 0.04 m)", "≈ 20",
-             _fmt(f4["speedup"]), "", "", tr]
+             _vs(f4["speedup"], 20), "", "", tr]
         )  # fmt: skip
         rows.append(
             ["planar5, η 0.1: median D^home rises, then falls", "yes (Fig. 4b)",
@@ -628,7 +636,7 @@ def paper_table(numbers: dict[str, Any]) -> list[list[str]]:
         r05 = by_eta[0.5]
         v = r05["speed"]["0.5"]
         rows.append(
-            ["planar5, η 0.5: S(0.5, 0.1 E_0)", "34", _fmt(v), "≤ 55", _within(v, None, 55),
+            ["planar5, η 0.5: S(0.5, 0.1 E_0)", "34", _vs(v, 34), "≤ 55", _within(v, None, 55),
              f"{f5['settings']['trials']} trials"]
         )  # fmt: skip
         finals = [r["final_error"][2] for r in f5["rows"]]
@@ -636,7 +644,7 @@ def paper_table(numbers: dict[str, Any]) -> list[list[str]]:
         rows.append(
             ["planar5, η 0.001-0.5: final median E^X [mm]", "mm range after 10^7 movements",
              f"{1000 * min(finals):.2f}-{1000 * max(finals):.1f} after {fm:,}", "", "",
-             "Fig. 5b; lowest rates not converged"]
+             "Fig. 5b"]
         )  # fmt: skip
         dh = [r["final_home_distance"][2] for r in f5["rows"]]
         rows.append(
@@ -649,9 +657,9 @@ def paper_table(numbers: dict[str, Any]) -> list[list[str]]:
         r50 = by_m[50]
         tr = f"{f8['settings']['trials']} trials"
         v = r50["speed"]["0.5"]
-        rows.append(["planar50: S(0.5, 0.1 E_0)", "128", _fmt(v), "[95, 175]", _within(v, 95, 175), tr])
+        rows.append(["planar50: S(0.5, 0.1 E_0)", "128", _vs(v, 128), "[95, 175]", _within(v, 95, 175), tr])
         v = r50["speed"]["0.9"]
-        rows.append(["planar50: S(0.9, 0.1 E_0)", "364", _fmt(v), "≤ 500", _within(v, None, 500), tr])
+        rows.append(["planar50: S(0.9, 0.1 E_0)", "364", _vs(v, 364), "≤ 500", _within(v, None, 500), tr])
         s50 = [r["speed"]["0.5"] for r in f8["rows"]]
         known = [s for s in s50 if s is not None]
         rows.append(
@@ -703,6 +711,11 @@ def render_results(numbers: dict[str, Any], meta: dict[str, Any]) -> str:
         )
     )
     q_head = [f"S({q:g})" for q in QUANTILES]
+    figs = [f for f in ("fig3", "fig4", "fig5", "fig6", "fig7", "fig8") if f in numbers]
+    if figs:
+        out += ["", "## Figures", ""]
+        for f in figs:
+            out += [f"![{f}]({f}.png)", ""]
     if "fig4" in numbers or "fig7" in numbers:
         out += ["", "## Figs. 4 and 7: curves", ""]
         rows = []
