@@ -1,8 +1,29 @@
 """Robots as data: presets read from the TOML files of ``robots/`` and procedural planar chains.
 
-``load_robot("planar20")`` builds a 20-joint planar chain as a real ``pin.Model``
-and wraps it in a :class:`~gb_pin.target.KinematicTarget` with the preset's home
-posture and target set. :func:`robots` lists the presets.
+``load_robot("planar20")`` builds a 20-joint planar chain as a real ``pin.Model``;
+``load_robot("talos_left_arm")`` loads the full TALOS model from example-robot-data
+and locks every joint but the seven of the left arm. Either way the result is a
+:class:`~gb_pin.target.KinematicTarget` with the preset's home posture and target
+set; :func:`robots` lists the presets, and each preset's ``[learner]`` table holds
+its learner defaults (read by :func:`gb_pin.babble`).
+
+A preset file (one per robot, installed as the package ``gb_pin.presets``)::
+
+    name = "talos_left_arm"
+    description = "..."
+    kind = "humanoid arm"                  # a label for listings
+    source = "example-robot-data"          # or "planar", or "urdf" (with urdf = "path")
+    robot = "talos"                        # the example-robot-data name
+    frame = "gripper_left_base_link"
+    joints = ["arm_left_1_joint", ...]     # moved by the learner; the rest is locked
+    home = [-0.4, 0.6, ...]                # over joints, or a reference configuration name
+    axes = "xyz"
+    [targets]                              # a grid, explicit points, or auto = true
+    lower = [...]
+    upper = [...]
+    shape = [3, 3, 3]
+    [learner]                              # defaults where the paper's do not fit
+    sigma = 0.05
 """
 
 from __future__ import annotations
@@ -13,6 +34,7 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -22,8 +44,27 @@ from numpy.typing import NDArray
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
 from gb_pin.target import KinematicTarget
+from gb_pin.targets_auto import grid_targets
+
+__all__ = [
+    "RobotPreset",
+    "format_presets",
+    "get_preset",
+    "grid_targets",
+    "load_robot",
+    "planar_chain",
+    "planar_home",
+    "robots",
+]
 
 _LEARNER_KEYS = ("learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home")
+_SOURCES = ("planar", "example-robot-data", "urdf")
+_COMMON_KEYS = ("name", "source", "description", "kind", "frame", "axes", "home", "targets", "learner")
+_SOURCE_KEYS = {
+    "planar": ("total_length", "min_joints"),
+    "example-robot-data": ("robot", "joints"),
+    "urdf": ("urdf", "srdf", "joints", "floating_base", "package_dirs"),
+}
 
 
 def planar_chain(m: int, total_length: float = 1.0) -> pin.Model:
@@ -71,37 +112,27 @@ def planar_home(m: int) -> NDArray[np.float64]:
     return home
 
 
-def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
-    """A regular grid, the first axis varying slowest, as an (N, n) array [m]."""
-    lo = np.asarray(lower, dtype=float)
-    hi = np.asarray(upper, dtype=float)
-    counts = [int(c) for c in shape]
-    if not (lo.shape == hi.shape == (len(counts),)) or min(counts) < 1:
-        raise InvalidArgumentError(
-            f"a target grid needs lower, upper and shape of one length, got {lower!r}, {upper!r}, {shape!r}"
-        )
-    axes = [
-        np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2])
-        for a, b, c in zip(lo, hi, counts, strict=True)
-    ]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
-
-
 @dataclass(frozen=True)
 class RobotPreset:
     """One robot (or family of robots) described by a TOML file in ``robots/``.
 
     Attributes:
         name: the preset name (``"planar"`` stands for the family ``planarN``).
-        source: ``"planar"`` for procedural chains.
+        source: ``"planar"`` (procedural chains), ``"example-robot-data"`` or ``"urdf"``.
         description: one line for listings.
         frame: operational frame.
         axes: task axes seen by the learner.
-        targets: default target set, (N, n) [m].
+        targets: the target set (N, n) [m] where the file gives a grid or points;
+            None for ``auto`` targets (computed when the robot loads).
         learner: per-robot learner defaults (keys among ``learning_rate``, ``sigma``,
             ``sigma_delta``, ``radius``, ``path_length``, ``p_home``).
         options: the remaining entries of the file (e.g. ``total_length``).
+        joints: the joints the learner moves (empty for the planar family).
+        home: the home posture over ``joints``, a reference configuration name, or
+            ``"paper"`` (planar family).
+        robot: the example-robot-data name, or the URDF path, the model comes from.
+        kind: a label for listings (``"planar arm"``, ``"arm"``, ``"humanoid arm"``).
+        target_spec: the ``[targets]`` table as written.
     """
 
     name: str
@@ -109,36 +140,107 @@ class RobotPreset:
     description: str
     frame: str
     axes: str
-    targets: NDArray[np.float64]
+    targets: NDArray[np.float64] | None
     learner: dict[str, Any] = field(default_factory=dict)
     options: dict[str, Any] = field(default_factory=dict)
+    joints: tuple[str, ...] = ()
+    home: tuple[float, ...] | str | None = None
+    robot: str = ""
+    kind: str = ""
+    target_spec: dict[str, Any] = field(default_factory=dict)
 
     @property
     def pattern(self) -> str:
         """The name users type (``planarN`` for the planar family)."""
         return f"{self.name}N" if self.source == "planar" else self.name
 
+    @property
+    def dof(self) -> str:
+        """Number of joints the learner moves (``"N"`` for the planar family)."""
+        return "N" if self.source == "planar" else str(len(self.joints))
+
+    @property
+    def n_targets(self) -> int:
+        """Number of targets (for ``auto`` targets: the grid's point count)."""
+        if self.targets is not None:
+            return int(self.targets.shape[0])
+        shape = self.target_spec.get("shape") or [3] * len(self.axes)
+        return int(np.prod(shape))
+
+    @property
+    def origin(self) -> str:
+        """Where the model comes from, for listings (``planar``, ``erd:talos``, ``urdf:file.urdf``)."""
+        if self.source == "example-robot-data":
+            return f"erd:{self.robot}"
+        if self.source == "urdf":
+            return f"urdf:{Path(self.robot).name}"
+        return self.source
+
 
 def _read_preset(text: str, filename: str) -> RobotPreset:
     try:
         raw = tomllib.loads(text)
-        targets = raw.pop("targets")
-        grid = grid_targets(targets["lower"], targets["upper"], targets["shape"])
+        source = raw.get("source")
+        if source not in _SOURCES:
+            raise InvalidArgumentError(f"source must be one of {list(_SOURCES)}, got {source!r}")
+        unknown = set(raw) - set(_COMMON_KEYS) - set(_SOURCE_KEYS[source])
+        if unknown:
+            raise InvalidArgumentError(
+                f"unknown keys {sorted(unknown)} for source {source!r}; valid: "
+                f"{[*_COMMON_KEYS, *_SOURCE_KEYS[source]]}"
+            )
+        spec = dict(raw.pop("targets"))
+        if spec.get("auto"):
+            targets = None
+        elif "points" in spec:
+            targets = check.points("targets.points", spec["points"], len(str(raw.get("axes", "xyz"))))
+        else:
+            if set(spec) != {"lower", "upper", "shape"}:
+                raise InvalidArgumentError(
+                    "[targets] must be a grid (lower, upper, shape), points, or auto = true; "
+                    f"got {sorted(spec)}"
+                )
+            targets = grid_targets(spec["lower"], spec["upper"], spec["shape"])
         learner = {str(k): v for k, v in raw.pop("learner", {}).items()}
         unknown = set(learner) - set(_LEARNER_KEYS)
         if unknown:
             raise InvalidArgumentError(
                 f"unknown learner keys {sorted(unknown)}; valid: {list(_LEARNER_KEYS)}"
             )
+        name = str(raw.pop("name"))
+        frame = str(raw.pop("frame"))
+        axes = str(raw.pop("axes", "xyz"))
+        if targets is not None and targets.shape[1] != len(axes):
+            raise InvalidArgumentError(
+                f"targets have {targets.shape[1]} coordinates, axes {axes!r} need {len(axes)}"
+            )
+        home = raw.pop("home", None)
+        kind = str(raw.pop("kind", ""))
+        source = str(raw.pop("source"))
+        description = str(raw.pop("description", ""))
+        joints: tuple[str, ...] = ()
+        robot = ""
+        if source != "planar":
+            joints = tuple(str(j) for j in raw.pop("joints"))
+            robot = str(raw.pop("robot" if source == "example-robot-data" else "urdf"))
+            if isinstance(home, list):
+                if len(home) != len(joints):
+                    raise InvalidArgumentError(f"home has {len(home)} values for {len(joints)} joints")
+                home = tuple(float(v) for v in home)
         return RobotPreset(
-            name=str(raw.pop("name")),
-            source=str(raw.pop("source")),
-            description=str(raw.pop("description", "")),
-            frame=str(raw.pop("frame")),
-            axes=str(raw.pop("axes", "xyz")),
-            targets=grid,
+            name=name,
+            source=source,
+            description=description,
+            frame=frame,
+            axes=axes,
+            targets=targets,
             learner=learner,
             options=raw,
+            joints=joints,
+            home=home,
+            robot=robot,
+            kind=kind,
+            target_spec=spec,
         )
     except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError) as exc:
         raise InvalidArgumentError(f"malformed robot preset {filename}: {exc}") from exc
@@ -154,6 +256,8 @@ def _presets() -> dict[str, RobotPreset]:
         for entry in sorted(resources.files("gb_pin.presets").iterdir(), key=lambda e: e.name):
             if entry.name.endswith(".toml"):
                 preset = _read_preset(entry.read_text(encoding="utf-8"), entry.name)
+                if preset.name in found:
+                    raise InvalidArgumentError(f"two robot presets are named {preset.name!r}")
                 found[preset.name] = preset
         _PRESETS = found
     return _PRESETS
@@ -171,7 +275,7 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
         UnknownRobotError: no preset of that name (the message lists the closest ones).
     """
     presets = _presets()
-    valid = [p.pattern for p in presets.values()]
+    valid = [p.pattern for p in robots()]
     if not isinstance(name, str):
         raise UnknownRobotError(
             f"robot name must be a string, got {name!r}; valid presets: {', '.join(valid)}"
@@ -188,28 +292,83 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
             return preset, m
     if name in presets and presets[name].source != "planar":
         return presets[name], None
-    close = difflib.get_close_matches(
-        name, [*valid, *(f"{p.name}5" for p in presets.values())], n=3, cutoff=0.5
-    )
+    candidates = [p.name if p.source != "planar" else f"{p.name}5" for p in presets.values()]
+    close = difflib.get_close_matches(name, [*valid, *candidates], n=3, cutoff=0.5)
+    close = list(dict.fromkeys(c for c in close if c in candidates or c in valid))
     hint = f"; did you mean {', '.join(close)}?" if close else ";"
     raise UnknownRobotError(f"unknown robot {name!r}{hint} valid presets: {', '.join(valid)} (N >= 2)")
+
+
+def _preset_path(path: str) -> str:
+    """A URDF/SRDF path of a preset: absolute, or relative to the presets' directory."""
+    p = Path(path)
+    if p.is_absolute():
+        return str(p)
+    return str(Path(str(resources.files("gb_pin.presets"))) / p)
 
 
 def load_robot(name: str) -> KinematicTarget:
     """Load a preset robot as a :class:`KinematicTarget` with its home posture and targets.
 
     Args:
-        name: a preset name, e.g. ``"planar5"`` or ``"planar20"`` (any N >= 2).
+        name: a preset name, e.g. ``"planar5"``, ``"planar20"`` (any N >= 2),
+            ``"talos_left_arm"``, ``"panda"`` (see :func:`robots`).
 
     Raises:
         UnknownRobotError: unknown name (the message suggests the closest).
     """
     preset, m = get_preset(name)
+    return _load_preset(preset, m, name)
+
+
+def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarget:
+    """Build the KinematicTarget a preset describes (``m`` joints for the planar family)."""
     if preset.source == "planar":
-        assert m is not None
+        if m is None:
+            raise InvalidArgumentError(f"preset {preset.name!r} is a family: give its number of joints")
         model = planar_chain(m, float(preset.options.get("total_length", 1.0)))
         home = planar_home(m)
         return KinematicTarget(
             model, preset.frame, home=home, axes=preset.axes, targets=preset.targets, name=name
         )
-    raise UnknownRobotError(f"robot {name!r}: source {preset.source!r} is not supported")
+    spec: Any = preset.targets if preset.targets is not None else preset.target_spec
+    home_arg: Any = list(preset.home) if isinstance(preset.home, tuple) else preset.home
+    if preset.source == "example-robot-data":
+        return KinematicTarget.from_example_robot_data(
+            preset.robot,
+            preset.frame,
+            list(preset.joints),
+            home_arg,
+            preset.axes,
+            targets=spec,
+            label=name,
+        )
+    options = preset.options
+    srdf = options.get("srdf")
+    dirs = options.get("package_dirs")
+    return KinematicTarget.from_urdf(
+        _preset_path(preset.robot),
+        preset.frame,
+        list(preset.joints),
+        home_arg,
+        preset.axes,
+        package_dirs=None if dirs is None else [_preset_path(str(d)) for d in dirs],
+        srdf=None if srdf is None else _preset_path(str(srdf)),
+        floating_base=bool(options.get("floating_base", False)),
+        targets=spec,
+        name=name,
+    )
+
+
+def format_presets() -> str:
+    """The presets as a text table: name, DOF, task axes, frame, source, number of targets, kind."""
+    rows = [("name", "DOF", "axes", "frame", "source", "targets", "kind")]
+    for p in robots():
+        rows.append((p.pattern, p.dof, p.axes, p.frame, p.origin, str(p.n_targets), p.kind))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    right = {1, 5}
+    lines = [
+        "  ".join(c.rjust(widths[i]) if i in right else c.ljust(widths[i]) for i, c in enumerate(r)).rstrip()
+        for r in rows
+    ]
+    return "\n".join(lines)

@@ -2,15 +2,24 @@
 
 This is the robot side of goal babbling: a posture q of the joints the learner
 moves goes in, the position of one frame on the chosen task axes comes out. It
-also carries the home posture and the joint limits. The learner never sees this
-class's robot-specific parts, only :attr:`KinematicTarget.chain` (plain arrays
-for compiled forward kinematics), :attr:`home` and the limits.
+also carries the home posture, the joint limits and a target set. The learner never
+sees this class's robot-specific parts, only :attr:`KinematicTarget.chain` (plain
+arrays for compiled forward kinematics), :attr:`home` and the limits.
+
+A target is built from any ``pin.Model`` (:class:`KinematicTarget`), a URDF file
+(:meth:`KinematicTarget.from_urdf`) or an example-robot-data robot
+(:meth:`KinematicTarget.from_example_robot_data`). Positions are always world
+coordinates of the full model (locked joints at the reference posture) on the
+chosen axes [m].
 """
 
 from __future__ import annotations
 
 import difflib
-from collections.abc import Sequence
+import os
+import warnings
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -19,7 +28,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.chain import PRISMATIC, REVOLUTE, KinematicChain
-from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError, UnreachableTargetWarning
+from gb_pin.robot_models import build_visual_model, load_example_robot, load_urdf_model
+from gb_pin.targets_auto import auto_grid, beyond_reach, resolve_targets
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 _UNIT = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
@@ -59,38 +70,56 @@ def _joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float],
             )
         kind = PRISMATIC if suffix.startswith("Prismatic") else REVOLUTE
         return kind, (float(axis[0]), float(axis[1]), float(axis[2])), "Unbounded" in suffix
+    if suffix == "FreeFlyer":
+        raise InvalidArgumentError(
+            f"joint {name!r} is a free floating base ({short}); the learner moves only revolute, "
+            "continuous and prismatic joints: leave it out of `joints` so that it is locked at the "
+            "reference posture"
+        )
     raise InvalidArgumentError(
         f"joint {name!r} is a {short}; the learner moves only revolute, continuous and "
         "prismatic joints: lock it (leave it out of `joints`)"
     )
 
 
+TargetSpec = ArrayLike | str | Mapping[str, Any] | None
+"""A target set: an (N, n) array [m], ``"auto"``, a grid spec or an explicit-points spec (see
+:func:`gb_pin.targets_auto.resolve_targets`)."""
+
+
 class KinematicTarget:
     """Forward kinematics of one frame of a Pinocchio model, over the joints the learner moves.
 
-    Joints not in ``joints`` are locked at the reference posture with
-    ``pinocchio.buildReducedModel``. The reference posture is the model's
-    ``half_sitting`` (or its only named reference configuration) where there is
-    one, else ``pinocchio.neutral``.
+    Joints not in ``joints`` (a floating base included) are locked at the reference
+    posture with ``pinocchio.buildReducedModel``. The reference posture is the
+    model's ``half_sitting`` (or its only named reference configuration) where there
+    is one, else ``pinocchio.neutral``.
 
     Joint limits: a posture is executed clipped to the model's position limits, and
     the learner learns from the executed posture (what a real robot does).
+    Continuous joints (nq = 2 in Pinocchio) are seen by the learner as one angle.
 
     Args:
         model: the Pinocchio model (not modified).
         frame: name of the operational frame whose position is the task variable.
         joints: names of the joints the learner moves, in the order of q. ``None``
-            means every joint of the model (all must be 1-DOF).
+            means every joint of the model (all must be 1-DOF: a model with a free
+            floating base must name its joints, so that the base is locked).
         home: the home posture over ``joints`` ([rad] or [m]) or the name of a
             reference configuration of the model; default the reference posture.
         axes: the task coordinates the learner sees, e.g. ``"xy"`` or ``"xyz"``
             (default).
-        targets: optional default target set, shape (N, n) [m], world coordinates.
+        targets: default target set: an (N, n) array [m] in world coordinates,
+            ``"auto"`` (the largest reachable regular grid around the home effector
+            position, seeded), or a spec mapping (``lower``/``upper``/``shape`` grid,
+            ``points``, or ``auto`` with ``shape``/``scale``). None: no default set
+            (``babble`` then uses ``"auto"``).
         name: a label for messages and saved files.
 
     Raises:
         UnknownRobotError: unknown frame or joint name.
-        InvalidArgumentError: unsupported joint type, bad home, bad axes or targets.
+        InvalidArgumentError: unsupported joint type, an unlocked floating base, bad
+            home, bad axes or targets.
     """
 
     def __init__(
@@ -101,7 +130,7 @@ class KinematicTarget:
         home: ArrayLike | str | None = None,
         axes: str | None = None,
         *,
-        targets: ArrayLike | None = None,
+        targets: TargetSpec = None,
         name: str | None = None,
     ) -> None:
         if not isinstance(model, pin.Model):
@@ -111,6 +140,18 @@ class KinematicTarget:
         reference = self._reference_posture(model)
 
         if joints is None:
+            floating = [
+                n
+                for n in full_names
+                if model.joints[model.getJointId(n)].shortname() == "JointModelFreeFlyer"
+            ]
+            if floating:
+                movable = [n for n in full_names if model.joints[model.getJointId(n)].nv == 1]
+                raise InvalidArgumentError(
+                    f"model {self.name!r} has a free floating base {floating[0]!r}, which joints=None would "
+                    "leave unlocked: name the joints the learner moves (the base is then locked at the "
+                    f"reference posture), e.g. joints={movable[:7]!r}"
+                )
             joints = full_names
         if isinstance(joints, str) or not all(isinstance(j, str) for j in joints):
             raise InvalidArgumentError(f"joints must be a sequence of joint names, got {joints!r}")
@@ -124,6 +165,8 @@ class KinematicTarget:
                 raise UnknownRobotError(
                     f"unknown joint {j!r} in model {self.name!r}; {_closest(j, full_names)}"
                 )
+        for j in joints:  # a clear error before buildReducedModel sees an odd joint
+            _joint_kind(model.joints[model.getJointId(j)], j)
         locked = [model.getJointId(n) for n in full_names if n not in joints]
         if locked:
             # buildReducedModel needs a JOINT frame on every joint; hand-built models may lack them.
@@ -150,10 +193,15 @@ class KinematicTarget:
             )
         self.model = reduced
         self.data = reduced.createData()
+        self.full_model = pin.Model(model)
+        self.reference: NDArray[np.float64] = reference
         self.frame = frame
         self.frame_id = int(reduced.getFrameId(frame))
         self.joints: tuple[str, ...] = tuple(joints)
         self.axes = self._parse_axes(axes)
+        self._urdf: str | None = None
+        self._package_dirs: list[str] | None = None
+        self._auto: NDArray[np.float64] | None = None
 
         self._kinds: list[int] = []
         self._continuous: list[bool] = []
@@ -181,8 +229,97 @@ class KinematicTarget:
         self.chain = self._build_chain()
         self.home: NDArray[np.float64] = self._parse_home(home, model, reference)
         self.targets: NDArray[np.float64] | None = (
-            None if targets is None else check.points("targets", targets, self.n_task)
+            None if targets is None else resolve_targets(targets, self, what="targets")
         )
+
+    # -- other constructors ---------------------------------------------------------
+    @classmethod
+    def from_urdf(
+        cls,
+        path: str | os.PathLike[str],
+        frame: str,
+        joints: Sequence[str] | None = None,
+        home: ArrayLike | str | None = None,
+        axes: str | None = None,
+        package_dirs: Sequence[str | os.PathLike[str]] | None = None,
+        *,
+        srdf: str | os.PathLike[str] | None = None,
+        floating_base: bool = False,
+        targets: TargetSpec = None,
+        name: str | None = None,
+    ) -> KinematicTarget:
+        """A target from a URDF file (kinematics only: no mesh is loaded).
+
+        Args:
+            path: the URDF file.
+            frame: operational frame (a link name or any frame of the model).
+            joints: joints the learner moves (see the class); default every joint.
+            home: home posture over ``joints`` or a reference configuration name.
+            axes: task axes, default ``"xyz"``.
+            package_dirs: where ``package://`` mesh paths resolve; used only by
+                :meth:`visual_model`.
+            srdf: SRDF file whose group states become reference configurations
+                (e.g. ``half_sitting``).
+            floating_base: add a free-flyer root joint (a mobile robot); then name
+                ``joints`` (the base is locked at the reference posture).
+            targets: default target set (see the class).
+            name: label; default the file's stem.
+
+        Raises:
+            InvalidArgumentError: missing or malformed URDF/SRDF, or any constructor error.
+        """
+        model = load_urdf_model(path, srdf=srdf, floating_base=floating_base)
+        target = cls(
+            model,
+            frame,
+            joints,
+            home,
+            axes,
+            targets=targets,
+            name=name if name is not None else Path(os.fspath(path)).stem,
+        )
+        target._urdf = os.fspath(path)
+        target._package_dirs = None if package_dirs is None else [os.fspath(p) for p in package_dirs]
+        return target
+
+    @classmethod
+    def from_example_robot_data(
+        cls,
+        name: str,
+        frame: str,
+        joints: Sequence[str] | None = None,
+        home: ArrayLike | str | None = None,
+        axes: str | None = None,
+        *,
+        targets: TargetSpec = None,
+        label: str | None = None,
+    ) -> KinematicTarget:
+        """A target from a robot of the example-robot-data package (e.g. ``"talos"``, ``"panda"``).
+
+        Mobile robots (humanoids, quadrupeds) get a free-flyer root joint, as in
+        example-robot-data's own loaders, and their SRDF reference configurations
+        (``half_sitting``): name the ``joints`` to move; everything else, the base
+        included, is locked at the reference posture.
+
+        Args:
+            name: the robot's name, see :data:`gb_pin.robot_models.DESCRIPTIONS`.
+            frame: operational frame.
+            joints: joints the learner moves.
+            home: home posture over ``joints`` or a reference configuration name.
+            axes: task axes, default ``"xyz"``.
+            targets: default target set (see the class).
+            label: the target's name for messages; default ``name``.
+
+        Raises:
+            UnknownRobotError: unknown robot, frame or joint (closest names listed).
+            InvalidArgumentError: any other constructor error.
+        """
+        model, _, urdf = load_example_robot(name)
+        target = cls(
+            model, frame, joints, home, axes, targets=targets, name=label if label is not None else name
+        )
+        target._urdf = str(urdf)
+        return target
 
     # -- construction helpers -------------------------------------------------
     @staticmethod
@@ -233,6 +370,10 @@ class KinematicTarget:
             q_index[i] = a
         frame = model.frames[self.frame_id]
         frame_parent = index.get(frame.parentJoint, -1)
+        frame_translation = np.array(frame.placement.translation, dtype=float)
+        if frame_parent < 0 and frame.parentJoint != 0:
+            # Cannot happen after buildReducedModel (every kept joint is moved), but keep the chain honest.
+            raise GbPinError(f"frame {self.frame!r} hangs on a joint that is neither moved nor the world")
         return KinematicChain(
             parents=parents,
             rotations=rotations,
@@ -241,7 +382,7 @@ class KinematicTarget:
             kinds=kinds,
             q_index=q_index,
             frame_parent=frame_parent,
-            frame_translation=np.array(frame.placement.translation, dtype=float),
+            frame_translation=frame_translation,
             task_axes=np.array([_AXIS_INDEX[c] for c in self.axes], dtype=np.int64),
         )
 
@@ -259,7 +400,12 @@ class KinematicTarget:
                 )
             q_full = np.array(refs[home], dtype=float)
         else:
-            q = check.vector("home", home, self.n_joints)
+            try:
+                q = check.vector("home", home, self.n_joints)
+            except InvalidArgumentError as exc:
+                raise InvalidArgumentError(
+                    f"{exc}: one value per joint of `joints` ({', '.join(self.joints)})"
+                ) from exc
             self._check_within_limits(q)
             return q
         q = np.empty(self.n_joints)
@@ -309,6 +455,21 @@ class KinematicTarget:
                 q_pin[iq] = q[a]
         return q_pin
 
+    def full_configuration(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Configuration of the *full* model: posture ``q`` (m,) on ``joints``, the rest at the reference.
+
+        This is what a viewer displays, and what checks against the full model use.
+        """
+        q = check.vector("q", q, self.n_joints)
+        q_full = self.reference.copy()
+        for a, name in enumerate(self.joints):
+            iq = self.full_model.joints[self.full_model.getJointId(name)].idx_q
+            if self._continuous[a]:
+                q_full[iq], q_full[iq + 1] = np.cos(q[a]), np.sin(q[a])
+            else:
+                q_full[iq] = q[a]
+        return q_full
+
     def clip(self, q: ArrayLike) -> NDArray[np.float64]:
         """Posture(s) clipped to the joint limits: what the robot executes."""
         return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
@@ -340,6 +501,60 @@ class KinematicTarget:
             pin.framesForwardKinematics(self.model, self.data, self.to_pinocchio(qi))
             out[i] = self.data.oMf[self.frame_id].translation[idx]
         return out[0] if single else out
+
+    def auto_targets(self) -> NDArray[np.float64]:
+        """The ``"auto"`` target set: the largest reachable 3-per-axis grid around the home position [m].
+
+        Computed once (seeded, so always the same) and cached; see
+        :func:`gb_pin.targets_auto.auto_grid` for other shapes and scales.
+        """
+        if self._auto is None:
+            self._auto = auto_grid(self).targets
+        return self._auto.copy()
+
+    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
+        """Validate explicit targets: (N, n) finite points [m]; warn about the ones beyond the arm's reach.
+
+        The reach check is cheap and one-sided: a point farther from the first moved
+        joint than the sum of the link lengths (plus the prismatic strokes) is
+        certainly unreachable (:class:`~gb_pin.exceptions.UnreachableTargetWarning`);
+        a point within that ball may still be unreachable (joint limits, the body).
+        Use :func:`gb_pin.targets_auto.check_reachable` for a full check.
+
+        Raises:
+            InvalidArgumentError: wrong shape or non-finite values.
+        """
+        X = check.points(what, targets, self.n_task)
+        far = beyond_reach(self.chain, self.lower, self.upper, X)
+        if far.any():
+            shown = "; ".join(str(np.round(p, 4).tolist()) for p in X[far][:5])
+            more = f" (and {int(far.sum()) - 5} more)" if far.sum() > 5 else ""
+            warnings.warn(
+                f"{int(far.sum())} of {len(X)} {what} of {self.name!r} lie beyond the arm's reach on axes "
+                f"{self.axes!r} and cannot be reached: {shown}{more}",
+                UnreachableTargetWarning,
+                stacklevel=3,
+            )
+        return X
+
+    def visual_model(self) -> pin.GeometryModel:
+        """The visual geometry (meshes) of :attr:`full_model`, loaded on demand from the URDF (viewers).
+
+        Raises:
+            GbPinError: the target was not built from a URDF or example-robot-data, or
+                its meshes cannot be loaded.
+        """
+        if self._urdf is None:
+            raise GbPinError(
+                f"target {self.name!r} was built from a pin.Model, not a URDF: it has no meshes to load "
+                "(use KinematicTarget.from_urdf or from_example_robot_data)"
+            )
+        return build_visual_model(self.full_model, self._urdf, self._package_dirs)
+
+    @property
+    def urdf(self) -> str | None:
+        """The URDF file the model came from, or None."""
+        return self._urdf
 
     def __repr__(self) -> str:
         return (

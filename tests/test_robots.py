@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -19,6 +20,7 @@ from gb_pin import (
     planar_home,
     robots,
 )
+from gb_pin.robots import _load_preset, _read_preset, format_presets
 
 EPS = np.finfo(float).eps
 
@@ -151,3 +153,95 @@ def test_grid_targets() -> None:
         grid_targets([0.0], [1.0, 2.0], [2, 2])
     with pytest.raises(InvalidArgumentError):
         grid_targets([0.0, 0.0], [1.0, 1.0], [0, 2])
+
+
+# -- presets as data -----------------------------------------------------------------------------
+
+DATA = Path(__file__).parent / "data"
+
+URDF_PRESET = """
+name = "small"
+description = "the test arm"
+kind = "arm"
+source = "urdf"
+urdf = "{urdf}"
+srdf = "{srdf}"
+frame = "tool"
+joints = ["j1", "j2", "j3", "j4"]
+home = "ready"
+axes = "xyz"
+[targets]
+auto = true
+shape = [2, 2, 2]
+[learner]
+radius = 0.05
+"""
+
+
+def test_close_preset_names_are_suggested() -> None:
+    """A misspelt spatial preset suggests the closest preset names."""
+    with pytest.raises(UnknownRobotError, match=r"did you mean talos_left_arm"):
+        load_robot("talos_left")
+    with pytest.raises(UnknownRobotError, match=r"'pnada'.*did you mean panda"):
+        load_robot("pnada")
+
+
+def test_preset_listing() -> None:
+    """format_presets: a header and one row per preset with name, DOF, axes, frame, source, targets."""
+    lines = format_presets().splitlines()
+    assert lines[0].split() == ["name", "DOF", "axes", "frame", "source", "targets", "kind"]
+    rows = {line.split()[0]: line.split() for line in lines[1:]}
+    assert len(rows) == len(robots()) >= 9
+    assert rows["planarN"][1:6] == ["N", "xy", "tip", "planar", "25"]
+    assert rows["talos_left_arm"][1:6] == ["7", "xyz", "gripper_left_base_link", "erd:talos", "27"]
+    assert rows["talos_torso_left_arm"][1] == "9"
+
+
+def test_cli_robots_prints_the_table(capsys: pytest.CaptureFixture[str]) -> None:
+    """`gb-pin robots` prints the preset table and exits 0."""
+    from gb_pin.cli import main
+
+    assert main(["robots"]) == 0
+    out = capsys.readouterr().out
+    assert out.strip() == format_presets()
+
+
+def test_urdf_preset_loads_with_auto_targets() -> None:
+    """A preset of source "urdf" (paths absolute or relative to robots/) loads; auto targets resolve."""
+    text = URDF_PRESET.format(urdf=DATA / "small_arm.urdf", srdf=DATA / "small_arm.srdf")
+    preset = _read_preset(text, "small.toml")
+    assert (preset.source, preset.origin, preset.dof, preset.n_targets) == (
+        "urdf",
+        "urdf:small_arm.urdf",
+        "4",
+        8,
+    )
+    assert preset.targets is None and preset.learner == {"radius": 0.05}
+    target = _load_preset(preset, None, "small")
+    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 0.2], atol=1e-15)
+    assert target.targets is not None and target.targets.shape == (8, 3)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (('source = "urdf"', 'source = "mesh"'), "source must be one of"),
+        (('kind = "arm"', 'kind = "arm"\ncolour = "red"'), r"unknown keys \['colour'\]"),
+        (('frame = "tool"\n', ""), "frame"),
+        (
+            ("auto = true\nshape = [2, 2, 2]", "lower = [0, 0]\nupper = [1, 1]\nshape = [2, 2]"),
+            "axes 'xyz' need 3",
+        ),
+        (("auto = true\nshape = [2, 2, 2]", "spacing = 0.1"), r"\[targets\] must be"),
+        (('home = "ready"', "home = [0.1, 0.2]"), "home has 2 values for 4 joints"),
+        (("radius = 0.05", "radius = 0.05\nalpha = 1"), r"unknown learner keys \['alpha'\]"),
+        (("[learner]", "[learner"), "malformed robot preset"),
+    ],
+)
+def test_malformed_presets_raise(change: tuple[str, str], message: str) -> None:
+    """A broken preset file raises InvalidArgumentError naming the file and the problem."""
+    text = URDF_PRESET.format(urdf=DATA / "small_arm.urdf", srdf=DATA / "small_arm.srdf")
+    assert change[0] in text
+    with pytest.raises(InvalidArgumentError, match=message) as info:
+        _read_preset(text.replace(change[0], change[1]), "broken.toml")
+    assert "broken.toml" in str(info.value)

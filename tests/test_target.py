@@ -7,11 +7,15 @@ with the configuration vector assembled here by hand (continuous joints as
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
+import gb_pin
 from gb_pin import InvalidArgumentError, KinematicTarget, UnknownRobotError
+from gb_pin.exceptions import GbPinError, UnreachableTargetWarning
 from gb_pin.robots import planar_chain
 
 ATOL = 1e-12  # [m]
@@ -351,3 +355,144 @@ def test_locking_with_frames_before_joint_frames_is_a_clear_error() -> None:
     model.addFrame(pin.Frame("tip", k, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
     with pytest.raises(InvalidArgumentError, match="addJointFrame"):
         KinematicTarget(model, "tip", joints=["b"])
+
+
+# -- from_urdf, from_example_robot_data, floating bases, targets ------------------------------------
+
+DATA = Path(__file__).parent / "data"
+SMALL_URDF = DATA / "small_arm.urdf"
+SMALL_SRDF = DATA / "small_arm.srdf"
+
+
+def test_from_urdf_matches_pinocchio_on_the_urdf_model() -> None:
+    """from_urdf equals Pinocchio on the URDF model; the SRDF's lone 'ready' is reference and home.
+
+    Joints j1..j4, the continuous j2 seen as one angle.
+    """
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    assert target.joints == ("j1", "j2", "j3", "j4")
+    assert target.name == "small_arm"
+    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 0.2], atol=1e-15)
+    np.testing.assert_array_equal(target.lower, [-2.0, -np.inf, 0.0, -1.5])
+    np.testing.assert_array_equal(target.upper, [2.0, np.inf, 0.1, 1.5])
+    model = pin.buildModelFromUrdf(str(SMALL_URDF))
+    rng = np.random.default_rng(12)
+    for _ in range(10):
+        q = np.array(
+            [rng.uniform(-2, 2), rng.uniform(-np.pi, np.pi), rng.uniform(0, 0.1), rng.uniform(-1.5, 1.5)]
+        )
+        q_full = np.array([q[0], np.cos(q[1]), np.sin(q[1]), q[2], q[3]])
+        expected = pin_position(model, "tool", q_full)
+        np.testing.assert_allclose(target.forward(q), expected, rtol=0, atol=ATOL)
+        np.testing.assert_allclose(target.chain.forward(q), expected, rtol=0, atol=ATOL)
+        np.testing.assert_allclose(target.full_configuration(q), q_full, rtol=0, atol=1e-15)
+
+
+def test_from_urdf_bad_files_raise(tmp_path: Path) -> None:
+    """A missing or malformed URDF raises InvalidArgumentError naming the file."""
+    with pytest.raises(InvalidArgumentError, match=r"missing\.urdf.*does not exist"):
+        KinematicTarget.from_urdf(tmp_path / "missing.urdf", "tool")
+    bad = tmp_path / "broken.urdf"
+    bad.write_text("<robot name='b'><joint name='j' type='revolute'><parent link='nowhere'/></joint></robot>")
+    with pytest.raises(InvalidArgumentError, match=r"broken\.urdf"):
+        KinematicTarget.from_urdf(bad, "tool")
+
+
+def test_floating_base_must_be_locked() -> None:
+    """A free floating base must be locked: joints=None or naming it are errors.
+
+    The first names the base and suggests joints; naming arm joints locks the base at the reference.
+    """
+    with pytest.raises(InvalidArgumentError, match=r"free floating base 'root_joint'.*joints=\['j1'"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", floating_base=True)
+    with pytest.raises(InvalidArgumentError, match=r"'root_joint' is a free floating base"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", ["root_joint", "j1"], floating_base=True)
+    mobile = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"], floating_base=True)
+    fixed = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"])
+    # neutral free flyer = identity placement, so both see the same world positions.
+    for q in ([0.0, 0.0], [1.0, 0.05], [-1.5, 0.1]):
+        np.testing.assert_allclose(mobile.forward(q), fixed.forward(q), rtol=0, atol=ATOL)
+        np.testing.assert_allclose(mobile.chain.forward(np.array(q)), fixed.forward(q), rtol=0, atol=ATOL)
+
+
+def test_from_example_robot_data_humanoid_locks_base_at_half_sitting() -> None:
+    """TALOS's left arm: the base and other joints at half_sitting; errors name the closest joints/frames."""
+    joints = [f"arm_left_{i}_joint" for i in range(1, 8)]
+    target = KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", joints)
+    assert target.n_joints == 7
+    assert target.urdf is not None and target.urdf.endswith("talos_reduced.urdf")
+    half_sitting = {c.key(): np.asarray(c.data()) for c in target.full_model.referenceConfigurations}[
+        "half_sitting"
+    ]
+    np.testing.assert_array_equal(target.reference, half_sitting)
+    q_full = target.full_configuration(target.home)
+    np.testing.assert_array_equal(q_full, half_sitting)  # the default home is the reference posture
+    with pytest.raises(UnknownRobotError, match=r"'arm_left_8_joint'.*arm_left_"):
+        KinematicTarget.from_example_robot_data(
+            "talos", "gripper_left_base_link", [*joints[:6], "arm_left_8_joint"]
+        )
+    with pytest.raises(UnknownRobotError, match=r"'gripper_left_bse_link'.*gripper_left_base_link"):
+        KinematicTarget.from_example_robot_data("talos", "gripper_left_bse_link", joints)
+    with pytest.raises(UnknownRobotError, match=r"'tallos'.*talos"):
+        KinematicTarget.from_example_robot_data("tallos", "gripper_left_base_link", joints)
+    with pytest.raises(InvalidArgumentError, match=r"free floating base"):
+        KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link")
+
+
+def test_home_of_wrong_length_lists_the_joints() -> None:
+    """A home of the wrong length names the joints it must cover."""
+    with pytest.raises(InvalidArgumentError, match=r"shape \(4,\).*j1, j2, j3, j4"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", home=[0.0, 0.0, 0.0])
+
+
+def test_targets_auto_and_specs() -> None:
+    """targets='auto' is the seeded auto grid; grid specs are accepted; a wrong dimension raises.
+
+    The auto grid has 27 reachable points centred on the home position.
+    """
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, targets="auto")
+    assert target.targets is not None and target.targets.shape == (27, 3)
+    np.testing.assert_allclose(target.targets.mean(axis=0), target.home_position, atol=1e-12)
+    np.testing.assert_array_equal(target.targets, target.auto_targets())
+    x = target.home_position
+    grid = KinematicTarget.from_urdf(
+        SMALL_URDF,
+        "tool",
+        srdf=SMALL_SRDF,
+        targets={"lower": x - 0.01, "upper": x + 0.01, "shape": [2, 2, 2]},
+    )
+    assert grid.targets is not None and grid.targets.shape == (8, 3)
+    with pytest.raises(InvalidArgumentError, match=r"shape \(N, 3\)"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", targets=[[0.1, 0.2]])
+    with pytest.raises(InvalidArgumentError, match=r"shape \(N, 2\)"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", axes="xz", targets=[[0.1, 0.2, 0.3]])
+
+
+def test_unreachable_explicit_targets_warn() -> None:
+    """Targets beyond the arm's reach warn with UnreachableTargetWarning naming them."""
+    with pytest.warns(UnreachableTargetWarning, match=r"\[3\.0, 0\.0, 0\.0\]"):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", targets=[[3.0, 0.0, 0.0]])
+
+
+def test_babble_without_targets_uses_auto() -> None:
+    """babble() on a custom target with no target set learns the auto grid."""
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    assert target.targets is None
+    result = gb_pin.babble(target, movements=20, seed=0, schedule=[0, 20])
+    np.testing.assert_array_equal(result.targets, target.auto_targets())
+
+
+def test_babble_warns_about_unreachable_targets() -> None:
+    """babble(targets=...) warns about targets beyond the arm's reach, and still runs."""
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    with pytest.warns(UnreachableTargetWarning):
+        gb_pin.babble(target, movements=5, seed=0, targets=[target.home_position, [0.0, 0.0, 5.0]])
+
+
+def test_visual_model_is_loaded_on_demand() -> None:
+    """A URDF target builds its visual model when asked; a pin.Model target has none (GbPinError)."""
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool")
+    visual = target.visual_model()
+    assert visual.ngeoms == 5
+    with pytest.raises(GbPinError, match="no meshes"):
+        KinematicTarget(planar_chain(3), "tip").visual_model()

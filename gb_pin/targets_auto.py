@@ -1,0 +1,511 @@
+"""Reachable target sets: seeded posture sampling, local refinement, and the ``"auto"`` grid.
+
+A point x* on the task axes is *reachable* if some posture within the joint limits
+puts the frame there. gb_pin checks it the way a user would by hand, but seeded so
+that the answer is the same every time:
+
+1. sample postures uniformly within the joint limits (``[-pi, pi]`` for an
+   unbounded revolute joint, ``[-1, 1]`` m for an unbounded prismatic one) and
+   compute their positions with the compiled forward kinematics;
+2. from the few sampled postures whose positions lie closest to x*, run a damped
+   least-squares (Levenberg-Marquardt) descent on ||x* - f(q)||, the posture clipped
+   to the limits after every update (a projected method: it never leaves the limits);
+3. x* is reachable if one of these descents ends within ``tolerance`` of it.
+
+A success is a proof (the posture is returned); a failure is evidence only: a point
+reachable through a narrow region that no sample came near can be missed. The
+``"auto"`` target set is the largest regular grid (``shape``, default 3 per task axis)
+centred on the home effector position whose points all pass this check.
+
+This module imports neither pinocchio nor meshcat: it works on the
+:class:`~gb_pin.chain.KinematicChain` of any robot.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+from numba import njit
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.chain import PRISMATIC, KinematicChain, chain_position
+from gb_pin.exceptions import InvalidArgumentError
+
+if TYPE_CHECKING:
+    from gb_pin.target import KinematicTarget
+
+SAMPLES = 20000  # postures sampled per check (about 5 ms of forward kinematics for 7 joints)
+STARTS = 8  # descents started from the sampled postures closest to each point
+ITERATIONS = 200  # damped least-squares iterations per descent
+TOLERANCE = 1e-4  # a point is reached when the frame is this close [m]
+_FD_STEP = 1e-7  # finite-difference step of the Jacobian [rad] or [m]
+_UNBOUNDED_PRISMATIC = 1.0  # sampling range of an unbounded prismatic joint [m]
+
+
+class _Robot(Protocol):
+    @property
+    def chain(self) -> KinematicChain: ...
+
+    @property
+    def home(self) -> NDArray[np.float64]: ...
+
+    @property
+    def lower(self) -> NDArray[np.float64]: ...
+
+    @property
+    def upper(self) -> NDArray[np.float64]: ...
+
+
+@dataclass(frozen=True, eq=False)
+class Reachability:
+    """Outcome of :func:`check_reachable`.
+
+    Attributes:
+        reachable: (N,) bool, whether a posture within the limits reaches each point.
+        postures: (N, m) the best posture found for each point (within the limits).
+        residual: (N,) distance from each point to the frame at that posture [m].
+    """
+
+    reachable: NDArray[np.bool_]
+    postures: NDArray[np.float64]
+    residual: NDArray[np.float64]
+
+
+@njit(cache=True, nogil=True)
+def _positions(Q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
+    """Frame positions of every posture row of Q (N, m) into out (N, n)."""
+    for r in range(Q.shape[0]):
+        chain_position(Q[r], chain, rot_ws, pos_ws, out[r])
+
+
+@njit(cache=True, nogil=True)
+def _solve_small(A, b, x):  # type: ignore[no-untyped-def]
+    """Solve A x = b for a small symmetric positive definite A (n <= 3) by Gaussian elimination."""
+    n = b.shape[0]
+    M = A.copy()
+    v = b.copy()
+    for c in range(n):
+        p = c
+        for r in range(c + 1, n):
+            if abs(M[r, c]) > abs(M[p, c]):
+                p = r
+        if p != c:
+            for k in range(n):
+                M[c, k], M[p, k] = M[p, k], M[c, k]
+            v[c], v[p] = v[p], v[c]
+        for r in range(c + 1, n):
+            f = M[r, c] / M[c, c]
+            for k in range(c, n):
+                M[r, k] -= f * M[c, k]
+            v[r] -= f * v[c]
+    for c in range(n - 1, -1, -1):
+        s = v[c]
+        for k in range(c + 1, n):
+            s -= M[c, k] * x[k]
+        x[c] = s / M[c, c]
+
+
+@njit(cache=True, nogil=True)
+def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance):  # type: ignore[no-untyped-def]
+    """Projected Levenberg-Marquardt on ||target - f(q)|| from q (modified in place); returns the residual."""
+    m = q.shape[0]
+    n = target.shape[0]
+    x = np.empty(n)
+    xp = np.empty(n)
+    e = np.empty(n)
+    J = np.empty((n, m))
+    JJ = np.empty((n, n))
+    y = np.empty(n)
+    trial = np.empty(m)
+    xt = np.empty(n)
+    chain_position(q, chain, rot_ws, pos_ws, x)
+    err = 0.0
+    for j in range(n):
+        e[j] = target[j] - x[j]
+        err += e[j] * e[j]
+    err = math.sqrt(err)
+    damping = 1e-2
+    for _ in range(iterations):
+        if err < tolerance:
+            break
+        for i in range(m):
+            keep = q[i]
+            q[i] = keep + 1e-7
+            chain_position(q, chain, rot_ws, pos_ws, xp)
+            q[i] = keep
+            for j in range(n):
+                J[j, i] = (xp[j] - x[j]) / 1e-7
+        improved = False
+        for _attempt in range(8):
+            for a in range(n):
+                for b in range(n):
+                    s = 0.0
+                    for i in range(m):
+                        s += J[a, i] * J[b, i]
+                    JJ[a, b] = s
+                JJ[a, a] += damping * damping
+            _solve_small(JJ, e, y)
+            for i in range(m):
+                s = 0.0
+                for j in range(n):
+                    s += J[j, i] * y[j]
+                trial[i] = min(max(q[i] + s, lower[i]), upper[i])
+            chain_position(trial, chain, rot_ws, pos_ws, xt)
+            new = 0.0
+            for j in range(n):
+                d = target[j] - xt[j]
+                new += d * d
+            new = math.sqrt(new)
+            if new < err:
+                for i in range(m):
+                    q[i] = trial[i]
+                for j in range(n):
+                    x[j] = xt[j]
+                    e[j] = target[j] - xt[j]
+                err = new
+                damping = max(damping * 0.3, 1e-6)
+                improved = True
+                break
+            damping *= 4.0
+        if not improved:
+            break
+    return err
+
+
+@njit(cache=True, nogil=True)
+def _reach_all(points, starts, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance, best_q, residual):  # type: ignore[no-untyped-def]
+    """For each point, descend from its start postures (points, S, m); keep the best posture and residual."""
+    m = lower.shape[0]
+    q = np.empty(m)
+    for p in range(points.shape[0]):
+        residual[p] = np.inf
+        for s in range(starts.shape[1]):
+            for i in range(m):
+                q[i] = starts[p, s, i]
+            err = _descend(points[p], q, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance)
+            if err < residual[p]:
+                residual[p] = err
+                for i in range(m):
+                    best_q[p, i] = q[i]
+            if err < tolerance:
+                break
+
+
+def sampling_bounds(robot: _Robot) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per-joint sampling interval: the joint limits, ``[-pi, pi]`` or ``[-1, 1]`` m where unbounded."""
+    kinds = np.asarray(robot.chain.kinds)
+    order = np.empty_like(kinds)
+    order[np.asarray(robot.chain.q_index)] = kinds  # kinds in the order of q
+    free = np.where(order == PRISMATIC, _UNBOUNDED_PRISMATIC, math.pi)
+    lower = np.where(np.isfinite(robot.lower), robot.lower, -free)
+    upper = np.where(np.isfinite(robot.upper), robot.upper, free)
+    return lower.astype(float), upper.astype(float)
+
+
+def sample_positions(
+    robot: _Robot, samples: int = SAMPLES, seed: int | np.random.Generator = 0
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Uniform postures within the limits and their frame positions: (samples, m), (samples, n) [m]."""
+    samples = check.positive_int("samples", samples)
+    rng = check.generator(seed)
+    lo, hi = sampling_bounds(robot)
+    Q = lo + (hi - lo) * rng.random((samples, lo.shape[0]))
+    X = np.empty((samples, robot.chain.n_task))
+    rot_ws, pos_ws = robot.chain.workspace()
+    _positions(Q, robot.chain.as_tuple(), rot_ws, pos_ws, X)
+    return Q, X
+
+
+def check_reachable(
+    robot: _Robot,
+    points: ArrayLike,
+    *,
+    seed: int | np.random.Generator = 0,
+    samples: int = SAMPLES,
+    tolerance: float = TOLERANCE,
+    sampled: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> Reachability:
+    """Which points a posture within the joint limits reaches (see the module docstring).
+
+    Args:
+        robot: a :class:`~gb_pin.target.KinematicTarget` (chain, home, lower, upper).
+        points: (N, n) points on the robot's task axes [m].
+        seed: seed of the posture sampling; same seed, same answer.
+        samples: postures sampled.
+        tolerance: a point counts as reached when the frame is this close [m].
+        sampled: postures and positions from :func:`sample_positions`, to reuse them.
+
+    Returns:
+        A :class:`Reachability` (per point: reachable, best posture, residual).
+    """
+    chain = robot.chain
+    X = check.points("points", points, chain.n_task)
+    tolerance = check.positive_float("tolerance", tolerance)
+    Q, P = sample_positions(robot, samples, seed) if sampled is None else sampled
+    lower = np.ascontiguousarray(robot.lower, dtype=float)
+    upper = np.ascontiguousarray(robot.upper, dtype=float)
+    count = min(STARTS, Q.shape[0])
+    # The home posture first (it is inside the limits), then the nearest samples.
+    d2 = ((X[:, None, :] - P[None, :, :]) ** 2).sum(axis=2)
+    nearest = np.argsort(d2, axis=1)[:, : count - 1]
+    starts = np.empty((X.shape[0], count, Q.shape[1]))
+    starts[:, 0] = np.clip(robot.home, lower, upper)
+    starts[:, 1:] = Q[nearest]
+    best = np.empty((X.shape[0], Q.shape[1]))
+    residual = np.empty(X.shape[0])
+    rot_ws, pos_ws = chain.workspace()
+    _reach_all(
+        X, starts, lower, upper, chain.as_tuple(), rot_ws, pos_ws, ITERATIONS, tolerance, best, residual
+    )
+    return Reachability(reachable=residual < tolerance, postures=best, residual=residual)
+
+
+def grid_shape(shape: Sequence[int] | None, n_task: int) -> tuple[int, ...]:
+    """A grid shape for ``n_task`` axes: ``None`` gives 3 points per axis."""
+    if shape is None:
+        return (3,) * n_task
+    try:
+        counts = tuple(int(c) for c in shape)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(f"grid shape must be {n_task} point counts, got {shape!r}") from exc
+    if (
+        len(counts) != n_task
+        or min(counts) < 1
+        or any(isinstance(c, bool) or c != k for c, k in zip(shape, counts, strict=True))
+    ):
+        raise InvalidArgumentError(f"grid shape must be {n_task} point counts >= 1, got {shape!r}")
+    return counts
+
+
+def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
+    """A regular grid over the box ``[lower, upper]``, the first axis varying slowest, as (N, n) [m].
+
+    An axis with one point sits mid-way between its bounds.
+    """
+    try:
+        lo = np.asarray(lower, dtype=float)
+        hi = np.asarray(upper, dtype=float)
+        counts = [int(c) for c in shape]
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"a target grid needs numeric lower, upper and shape, got {lower!r}, {upper!r}, {shape!r}"
+        ) from exc
+    if not (lo.shape == hi.shape == (len(counts),)) or not counts or min(counts) < 1:
+        raise InvalidArgumentError(
+            f"a target grid needs lower, upper and shape of one length, got {lower!r}, {upper!r}, {shape!r}"
+        )
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
+        raise InvalidArgumentError(f"a target grid needs finite lower <= upper, got {lower!r}, {upper!r}")
+    axes = [
+        np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2])
+        for a, b, c in zip(lo, hi, counts, strict=True)
+    ]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
+
+
+def regular_grid(center: ArrayLike, half_width: float, shape: Sequence[int]) -> NDArray[np.float64]:
+    """Grid of ``shape`` points over the cube ``center +- half_width``, the first axis slowest [m]."""
+    c = np.asarray(center, dtype=float)
+    axes = [
+        np.linspace(v - half_width, v + half_width, k) if k > 1 else np.array([v])
+        for v, k in zip(c, shape, strict=True)
+    ]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
+
+
+@dataclass(frozen=True, eq=False)
+class AutoGrid:
+    """The ``"auto"`` target set and how it was found.
+
+    Attributes:
+        targets: (N, n) grid points [m], all reachable.
+        center: (n,) the home effector position [m].
+        half_width: half the grid's edge [m].
+        shape: points per task axis.
+    """
+
+    targets: NDArray[np.float64]
+    center: NDArray[np.float64]
+    half_width: float
+    shape: tuple[int, ...]
+
+    @property
+    def lower(self) -> NDArray[np.float64]:
+        """Lower corner of the grid [m]."""
+        return self.center - self.half_width
+
+    @property
+    def upper(self) -> NDArray[np.float64]:
+        """Upper corner of the grid [m]."""
+        return self.center + self.half_width
+
+
+def auto_grid(
+    robot: _Robot,
+    shape: Sequence[int] | None = None,
+    *,
+    seed: int = 0,
+    samples: int = SAMPLES,
+    scale: float = 1.0,
+    resolution: float = 0.005,
+) -> AutoGrid:
+    """The largest reachable regular grid centred on the home effector position.
+
+    The half-width is searched by bisection between 0 and the extent of the sampled
+    positions, kept to multiples of ``resolution``; every point of the returned grid
+    passed :func:`check_reachable`. ``scale`` < 1 shrinks the largest grid (after the
+    search, in steps of ``resolution``) to keep the targets away from the workspace's
+    border.
+
+    Args:
+        robot: a :class:`~gb_pin.target.KinematicTarget`.
+        shape: points per task axis; default 3 per axis (27 points in 3-D).
+        seed: seed of the posture sampling.
+        samples: postures sampled.
+        scale: fraction of the largest reachable half-width to use, in (0, 1].
+        resolution: the half-width is a multiple of this [m].
+
+    Raises:
+        InvalidArgumentError: bad arguments, or no grid of at least ``resolution``
+            half-width is reachable (the home sits at the workspace's border).
+    """
+    counts = grid_shape(shape, robot.chain.n_task)
+    scale = check.positive_float("scale", scale)
+    if scale > 1.0:
+        raise InvalidArgumentError(f"scale must be in (0, 1], got {scale!r}")
+    resolution = check.positive_float("resolution", resolution)
+    sampled = sample_positions(robot, samples, seed)
+    center = robot.chain.forward(np.ascontiguousarray(robot.home, dtype=float))
+
+    def ok(h: float) -> bool:
+        grid = regular_grid(center, h, counts)
+        return bool(np.all(check_reachable(robot, grid, sampled=sampled).reachable))
+
+    hi = int(np.max(np.abs(sampled[1] - center)) / resolution) + 1  # in units of resolution
+    lo = 0  # largest known-good half-width (0: the home itself)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if ok(mid * resolution):
+            lo = mid
+        else:
+            hi = mid
+    chosen = math.floor(lo * scale)
+    while chosen > 0 and not ok(chosen * resolution):
+        chosen -= 1
+    if chosen == 0:
+        raise InvalidArgumentError(
+            f"no reachable grid of half-width >= {resolution} m around the home effector position "
+            f"{center.round(4).tolist()}: the home is at the border of the workspace; choose a home inside it"
+        )
+    h = chosen * resolution
+    return AutoGrid(targets=regular_grid(center, h, counts), center=center, half_width=h, shape=counts)
+
+
+def beyond_reach(
+    chain: KinematicChain, lower: ArrayLike, upper: ArrayLike, points: ArrayLike
+) -> NDArray[np.bool_]:
+    """Which points are certainly unreachable: farther from the chain's fixed root than the arm's length.
+
+    The root is the first moved joint on the path from the world to the frame (it
+    does not move); the length bound is the sum of the joint-to-joint and
+    joint-to-frame distances on that path plus the stroke of every prismatic joint
+    on it. Distances on a subset of the axes are at most the 3-D distances, so the
+    test holds for any task axes. Infinite strokes give no bound (nothing flagged).
+
+    Args:
+        chain: the robot's compiled kinematics.
+        lower: (m,) lower joint limits.
+        upper: (m,) upper joint limits.
+        points: (N, n) points on the chain's task axes [m].
+
+    Returns:
+        (N,) bool, True where the point is farther than the bound.
+    """
+    X = np.atleast_2d(np.asarray(points, dtype=float))
+    lo = np.asarray(lower, dtype=float)
+    hi = np.asarray(upper, dtype=float)
+    path = []
+    j = int(chain.frame_parent)
+    while j >= 0:
+        path.append(j)
+        j = int(chain.parents[j])
+    if not path:
+        root = np.asarray(chain.frame_translation, dtype=float)
+        bound = 0.0
+    else:
+        root = np.asarray(chain.translations[path[-1]], dtype=float)
+        bound = float(np.linalg.norm(chain.frame_translation))
+        bound += sum(float(np.linalg.norm(chain.translations[i])) for i in path[:-1])
+        for i in path:
+            if chain.kinds[i] == PRISMATIC:
+                a = int(chain.q_index[i])
+                bound += max(abs(lo[a]), abs(hi[a]))
+    if not math.isfinite(bound):
+        return np.zeros(X.shape[0], dtype=bool)
+    with np.errstate(over="ignore", invalid="ignore"):  # absurdly far points: an inf distance, flagged
+        distance = np.linalg.norm(X - root[np.asarray(chain.task_axes)], axis=1)
+    return np.asarray(distance > bound * (1.0 + 1e-9) + 1e-9)
+
+
+_SPEC_KEYS = ("lower", "upper", "shape", "points", "auto", "scale", "seed")
+
+
+def resolve_targets(spec: Any, robot: KinematicTarget, what: str = "targets") -> NDArray[np.float64]:
+    """A target set from its description (constructor argument or preset file).
+
+    Args:
+        spec: an (N, n) array of points [m]; ``"auto"``; or a mapping: a grid
+            ``{"lower": [...], "upper": [...], "shape": [...]}``, explicit points
+            ``{"points": [[...], ...]}``, or ``{"auto": True}`` with optional
+            ``shape`` (points per axis), ``scale`` and ``seed`` (see :func:`auto_grid`).
+        robot: the :class:`~gb_pin.target.KinematicTarget` the targets are for.
+        what: the argument's name in messages.
+
+    Returns:
+        (N, n) targets [m], world coordinates on the robot's task axes.
+
+    Raises:
+        InvalidArgumentError: malformed spec, wrong dimension, non-finite values.
+    """
+    if isinstance(spec, str):
+        if spec != "auto":
+            raise InvalidArgumentError(
+                f"{what} must be an (N, {robot.n_task}) array, 'auto', or a grid/points spec, got {spec!r}"
+            )
+        return robot.auto_targets()
+    if isinstance(spec, Mapping):
+        unknown = sorted(set(spec) - set(_SPEC_KEYS))
+        if unknown:
+            raise InvalidArgumentError(f"unknown keys {unknown} in {what} spec; valid: {list(_SPEC_KEYS)}")
+        if spec.get("auto"):
+            extra = sorted(set(spec) - {"auto", "shape", "scale", "seed"})
+            if extra:
+                raise InvalidArgumentError(
+                    f"{what} spec with auto takes shape, scale, seed; got also {extra}"
+                )
+            seed = spec.get("seed", 0)
+            if isinstance(seed, bool) or not isinstance(seed, int):
+                raise InvalidArgumentError(f"{what} seed must be an integer, got {seed!r}")
+            return auto_grid(robot, spec.get("shape"), seed=seed, scale=spec.get("scale", 1.0)).targets
+        if "points" in spec:
+            if set(spec) != {"points"}:
+                raise InvalidArgumentError(f"{what} spec with points takes nothing else, got {sorted(spec)}")
+            return robot.check_targets(spec["points"], what)
+        if {"lower", "upper", "shape"} == set(spec):
+            if len(spec["shape"]) != robot.n_task if hasattr(spec["shape"], "__len__") else True:
+                raise InvalidArgumentError(
+                    f"{what} grid shape must have {robot.n_task} entries (axes {robot.axes!r}), "
+                    f"got {spec['shape']!r}"
+                )
+            return robot.check_targets(grid_targets(spec["lower"], spec["upper"], spec["shape"]), what)
+        raise InvalidArgumentError(
+            f"{what} spec must be a grid (lower, upper, shape), points, or auto; got keys {sorted(spec)}"
+        )
+    return robot.check_targets(spec, what)
