@@ -1,0 +1,417 @@
+"""Transport of the meshcat viewer: a scene cache, a self-contained HTML export, a loopback-only server.
+
+meshcat 0.3.2's own server (``meshcat.servers.zmqserver``) binds its web port to
+every interface and relays each command through a zmq round trip to a second
+process. This module replaces it: a tornado server in a background thread of the
+calling process listens on 127.0.0.1 only, serves meshcat's bundled viewer
+(``meshcat/viewer/dist``, nothing from the network) and forwards commands to the
+connected browsers. A window object here has the ``send(command)`` method of
+``meshcat.visualizer.ViewerWindow``, so ``meshcat.Visualizer(window=...)`` (and
+with it pinocchio's ``MeshcatVisualizer``) draws through it unchanged.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import contextlib
+import json
+import os
+import socket
+import threading
+import warnings
+from collections.abc import Iterator, Sequence
+from concurrent.futures import Future
+from typing import Any, Protocol
+
+import tornado.httpserver
+import tornado.ioloop
+import tornado.netutil
+import tornado.web
+import tornado.websocket
+import umsgpack
+
+from gb_pin.viewer import ViewerError
+
+with warnings.catch_warnings():
+    # meshcat 0.3.2 imports its zmq server, which imports a module pyzmq deprecated.
+    warnings.simplefilter("ignore", DeprecationWarning)
+    import meshcat
+
+LOOPBACK = "127.0.0.1"
+DEFAULT_PORT = 7000
+PORT_ATTEMPTS = 20
+VIEWER_ROOT = os.path.join(meshcat.viewer_assets_path(), "dist")
+# The static page may run inline scripts and styles and read data: images (meshcat's
+# textures); it may load, fetch and connect to nothing.
+CONTENT_SECURITY_POLICY = (
+    "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:"
+)
+
+
+class Command(Protocol):
+    """A meshcat command (``meshcat.commands.SetObject`` and friends)."""
+
+    def lower(self) -> dict[str, Any]:
+        """The command as a msgpack-able dict with ``type`` and ``path``."""
+
+
+def encode(command: Command | dict[str, Any], single: bool = False) -> tuple[str, str, bytes]:
+    """(type, path, msgpack bytes) of a command; ``single`` packs floats as float32 (animations)."""
+    data = command if isinstance(command, dict) else command.lower()
+    packed = umsgpack.packb(data, force_float_precision="single") if single else umsgpack.packb(data)
+    return str(data["type"]), str(data.get("path", "")), packed
+
+
+def _split(path: str) -> tuple[str, ...]:
+    return tuple(p for p in path.split("/") if p)
+
+
+class SceneCache:
+    """The scene as a browser sees it: per path the last object, transform and properties; one animation.
+
+    Unlike meshcat's server, repeated ``set_property`` calls replace each other (a
+    live viewer toggles visibility at every frame), so the cache stays bounded.
+    """
+
+    def __init__(self) -> None:
+        self._objects: dict[tuple[str, ...], bytes] = {}
+        self._transforms: dict[tuple[str, ...], bytes] = {}
+        self._properties: dict[tuple[tuple[str, ...], str], bytes] = {}
+        self._animation: bytes | None = None
+
+    def apply(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
+        """Record one command."""
+        key = _split(path)
+        if kind == "set_object":
+            self._objects[key] = data
+        elif kind == "set_transform":
+            self._transforms[key] = data
+        elif kind == "set_property":
+            self._properties[(key, prop)] = data
+        elif kind == "set_animation":
+            self._animation = data
+        elif kind == "delete":
+            n = len(key)
+            for table in (self._objects, self._transforms):
+                for k in [k for k in table if k[:n] == key]:
+                    del table[k]
+            for pk in [pk for pk in self._properties if pk[0][:n] == key]:
+                del self._properties[pk]
+            if n == 0:
+                self._animation = None
+
+    def messages(self) -> list[bytes]:
+        """Commands that rebuild the scene: objects, properties, transforms, then the animation."""
+        out = [*self._objects.values(), *self._properties.values(), *self._transforms.values()]
+        if self._animation is not None:
+            out.append(self._animation)
+        return out
+
+    def html(self, title: str = "gb_pin") -> str:
+        """One self-contained HTML page showing the scene: meshcat's bundled viewer inlined, no network.
+
+        The commands are embedded as base64 msgpack and replayed synchronously on load,
+        in order; a Content-Security-Policy forbids every fetch and connection.
+        """
+        with open(os.path.join(VIEWER_ROOT, "main.min.js"), encoding="utf-8") as fh:
+            script = fh.read().replace("</script", "<\\/script")
+        commands = json.dumps([base64.b64encode(m).decode("ascii") for m in self.messages()])
+        safe_title = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+        return f"""<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<meta http-equiv="Content-Security-Policy" content="{CONTENT_SECURITY_POLICY}">
+<title>{safe_title}</title>
+<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+<script>
+{script}
+</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+var commands = {commands};
+for (var i = 0; i < commands.length; i++) {{
+  var raw = atob(commands[i]);
+  var bytes = new Uint8Array(raw.length);
+  for (var j = 0; j < raw.length; j++) {{ bytes[j] = raw.charCodeAt(j); }}
+  viewer.handle_command_bytearray(bytes);
+}}
+</script>
+</body>
+</html>
+"""
+
+
+class OfflineWindow:
+    """A meshcat window without a server: it only records the scene, for HTML export."""
+
+    web_url = ""
+
+    def __init__(self) -> None:
+        self.scene = SceneCache()
+
+    def send(self, command: Command | dict[str, Any]) -> None:
+        """Record a meshcat command."""
+        self.send_encoded(*encode(command), prop=_property_of(command))
+
+    def send_encoded(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
+        """Record an already-encoded command."""
+        self.scene.apply(kind, path, data, prop)
+
+    def send_batch(self, batch: Sequence[tuple[str, str, bytes, str]]) -> None:
+        """Record encoded commands (kind, path, data, property) in order."""
+        for kind, path, data, prop in batch:
+            self.scene.apply(kind, path, data, prop)
+
+    def get_scene(self) -> str:
+        """The scene as one self-contained HTML page (``meshcat.Visualizer.static_html``)."""
+        return self.scene.html()
+
+    def wait(self) -> str:
+        """Nothing to wait for offline."""
+        return "ok"
+
+    def close(self) -> None:
+        """Nothing to close offline."""
+
+
+def _property_of(command: Command | dict[str, Any]) -> str:
+    if isinstance(command, dict):
+        return str(command.get("property", ""))
+    return str(getattr(command, "key", ""))
+
+
+def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
+    """Listening sockets on 127.0.0.1: ``port``, or the first free one from 7000 on.
+
+    Raises:
+        ViewerError: the port is taken, or none of the ports tried is free.
+    """
+    ports = [port] if port is not None else list(range(DEFAULT_PORT, DEFAULT_PORT + PORT_ATTEMPTS))
+    errors = []
+    for p in ports:
+        try:
+            return tornado.netutil.bind_sockets(p, address=LOOPBACK, family=socket.AF_INET), p
+        except OSError as exc:
+            errors.append(f"{p}: {exc.strerror or exc}")
+    if port is not None:
+        raise ViewerError(f"cannot listen on {LOOPBACK}:{port} ({errors[0]}); choose another port")
+    raise ViewerError(f"no free port for the viewer on {LOOPBACK}:{ports[0]}-{ports[-1]} ({errors[-1]})")
+
+
+class _StaticHandler(tornado.web.StaticFileHandler):
+    def initialize(
+        self,
+        path: str,
+        default_filename: str | None = None,
+        allowed_symlink_directory: str | list[str] | None = None,
+        server: LocalServer | None = None,
+    ) -> None:
+        assert server is not None
+        self.server = server
+        super().initialize(path, default_filename)
+
+    async def prepare(self) -> None:
+        if self.request.host not in self.server.allowed_hosts:
+            raise tornado.web.HTTPError(403)
+
+    def set_extra_headers(self, path: str) -> None:
+        self.set_header("Cache-Control", "no-store")
+
+
+class _SocketHandler(tornado.websocket.WebSocketHandler):
+    def initialize(self, server: LocalServer) -> None:
+        self.server = server
+
+    async def prepare(self) -> None:
+        if self.request.host not in self.server.allowed_hosts:
+            raise tornado.web.HTTPError(403)
+
+    def open(self, *args: str, **kwargs: str) -> None:
+        self.server._opened(self)
+
+    def on_message(self, message: str | bytes) -> None:
+        # The viewer page only sends captured images on request; nothing is read from browsers.
+        pass
+
+    def on_close(self) -> None:
+        self.server._closed(self)
+
+
+class LocalServer:
+    """meshcat's viewer served on 127.0.0.1 from a background thread of this process.
+
+    It implements the window interface of ``meshcat.visualizer.ViewerWindow``
+    (``send``, ``wait``, ``get_scene``, ``web_url``). ``send`` encodes in the calling
+    thread and returns at once; the server thread writes to the browsers. A browser
+    that connects later receives the cached scene.
+
+    Args:
+        port: TCP port on 127.0.0.1; None: the first free one from 7000.
+
+    Raises:
+        ViewerError: the port cannot be bound.
+    """
+
+    def __init__(self, port: int | None = None) -> None:
+        sockets, self.port = bind_loopback(port)
+        self.host = LOOPBACK
+        self.web_url = f"http://{LOOPBACK}:{self.port}/static/"
+        self.allowed_hosts = frozenset({f"{LOOPBACK}:{self.port}", f"localhost:{self.port}"})
+        self.scene = SceneCache()
+        self._lock = threading.Lock()
+        self._clients: dict[_SocketHandler, Any] = {}  # client -> its last write future
+        self._connected = threading.Event()
+        self._closed_flag = False
+        self._ready: Future[tornado.ioloop.IOLoop] = Future()
+        self._thread = threading.Thread(
+            target=self._serve, args=(sockets,), name="gb_pin-viewer", daemon=True
+        )
+        self._thread.start()
+        try:
+            self._ioloop = self._ready.result(timeout=10)
+        except Exception as exc:
+            for s in sockets:
+                s.close()
+            raise ViewerError(f"the viewer's server thread failed to start: {exc}") from exc
+
+    # -- server thread --------------------------------------------------------------
+    def _serve(self, sockets: list[socket.socket]) -> None:
+        loop = asyncio.new_event_loop()
+        asyncio.set_event_loop(loop)
+        try:
+            ioloop = tornado.ioloop.IOLoop.current()
+            http = self._make_server(sockets)
+        except BaseException as exc:
+            self._ready.set_exception(exc)
+            loop.close()
+            return
+        self._ready.set_result(ioloop)
+        try:
+            ioloop.start()
+        finally:
+            http.stop()
+            with contextlib.suppress(Exception):
+                loop.run_until_complete(loop.shutdown_asyncgens())
+            loop.close()
+
+    def _make_server(self, sockets: list[socket.socket]) -> tornado.httpserver.HTTPServer:
+        app = tornado.web.Application(
+            [
+                (
+                    r"/static/(.*)",
+                    _StaticHandler,
+                    {"path": VIEWER_ROOT, "default_filename": "index.html", "server": self},
+                ),
+                (r"/", _SocketHandler, {"server": self}),
+            ],
+            log_function=lambda handler: None,  # no access log on the user's terminal
+        )
+        http = tornado.httpserver.HTTPServer(app)
+        http.add_sockets(sockets)
+        self._http = http
+        return http
+
+    def _opened(self, client: _SocketHandler) -> None:
+        with self._lock:
+            backlog = self.scene.messages()
+            self._clients[client] = None
+        for data in backlog:
+            self._write(client, data)
+        self._connected.set()
+
+    def _closed(self, client: _SocketHandler) -> None:
+        with self._lock:
+            self._clients.pop(client, None)
+
+    def _write(self, client: _SocketHandler, data: bytes) -> None:
+        try:
+            self._clients[client] = client.write_message(data, binary=True)
+        except (tornado.websocket.WebSocketClosedError, KeyError):
+            self._clients.pop(client, None)
+
+    def _broadcast(self, messages: list[bytes]) -> None:
+        for client in list(self._clients):
+            for data in messages:
+                self._write(client, data)
+
+    async def _shutdown(self) -> None:
+        pending = [f for f in self._clients.values() if f is not None]
+        if pending:
+            # Let the last frames reach the browsers (they keep showing them after we close).
+            with contextlib.suppress(Exception):
+                await asyncio.wait_for(asyncio.gather(*pending, return_exceptions=True), timeout=2.0)
+        for client in list(self._clients):
+            client.close()
+        self._http.stop()
+        await asyncio.sleep(0.05)
+        tornado.ioloop.IOLoop.current().stop()
+
+    # -- window interface (any thread) ----------------------------------------------------
+    def send(self, command: Command | dict[str, Any]) -> None:
+        """Send a meshcat command to every browser (and to those connecting later)."""
+        self.send_encoded(*encode(command), prop=_property_of(command))
+
+    def send_encoded(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
+        """Send an already-encoded command."""
+        self.send_batch([(kind, path, data, prop)])
+
+    def send_batch(self, batch: Sequence[tuple[str, str, bytes, str]]) -> None:
+        """Send encoded commands (kind, path, data, property) in order; one wake-up of the server thread."""
+        if self._closed_flag:
+            return
+        with self._lock:
+            for kind, path, data, prop in batch:
+                self.scene.apply(kind, path, data, prop)
+        self._ioloop.add_callback(self._broadcast, [item[2] for item in batch])
+
+    @property
+    def clients(self) -> int:
+        """Number of browsers connected now."""
+        with self._lock:
+            return len(self._clients)
+
+    def wait_for_client(self, timeout: float | None = None) -> bool:
+        """Block until a browser is connected (True) or ``timeout`` seconds pass (False)."""
+        return self._connected.wait(timeout)
+
+    def wait(self) -> str:
+        """Block until a browser is connected (``meshcat.Visualizer.wait``)."""
+        self._connected.wait()
+        return "ok"
+
+    def get_scene(self) -> str:
+        """The current scene as one self-contained HTML page."""
+        with self._lock:
+            return self.scene.html()
+
+    def close(self) -> None:
+        """Flush the last frames to the browsers, then stop listening (idempotent)."""
+        if self._closed_flag:
+            return
+        self._closed_flag = True
+        self._ioloop.add_callback(self._shutdown)
+        self._thread.join(timeout=5.0)
+
+    def __enter__(self) -> LocalServer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"LocalServer({self.web_url!r}, clients={self.clients})"
+
+
+@contextlib.contextmanager
+def serving(port: int | None = None) -> Iterator[LocalServer]:
+    """A :class:`LocalServer` closed on exit."""
+    server = LocalServer(port)
+    try:
+        yield server
+    finally:
+        server.close()

@@ -1,0 +1,129 @@
+"""The exported replay renders in a real browser (headless Debian chromium), offline, and plays.
+
+CI installs chromium (.ci/run); there these tests must run (CI=true makes a missing chromium a failure),
+elsewhere they are skipped without it. The pixel thresholds are derived from the scene's geometry: the
+camera looks straight down on the planar arm from ``Scene.camera_distance`` with meshcat's 75 degree
+field of view, so a link of length l and radius r covers about (l - 2 r_joint) * 2 r * ppm^2 pixels,
+ppm being pixels per metre in the arm's plane.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import gb_pin
+from gb_pin.viewer import export_replay
+from gb_pin.viewer_scene import CAMERA_FOV, LINK_COLOR, Scene
+from gb_pin.viewer_server import OfflineWindow
+
+WIDTH, HEIGHT = 800, 600
+
+
+def _chromium() -> str:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    if os.environ.get("CI", "").lower() == "true":
+        pytest.fail("chromium is not installed; CI must install it (.ci/run) so that the browser tests run")
+    pytest.skip("chromium is not installed (apt-get install chromium)")
+
+
+def screenshot(page: Path, png: Path, tmp: Path, budget_ms: int) -> np.ndarray:
+    """Render ``page`` headless after ``budget_ms`` of virtual time; returns the RGB pixels."""
+    profile = tmp / f"profile-{png.stem}"  # a fresh profile: no state between runs
+    cmd = [
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--enable-unsafe-swiftshader",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--no-first-run",
+        f"--user-data-dir={profile}",
+        f"--screenshot={png}",
+        f"--window-size={WIDTH},{HEIGHT}",
+        f"--virtual-time-budget={budget_ms}",
+        page.resolve().as_uri(),
+    ]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert png.is_file(), f"chromium wrote no screenshot (exit {proc.returncode}): {proc.stderr[-2000:]}"
+    return np.asarray(Image.open(png).convert("RGB")).astype(int)
+
+
+def link_mask(rgb: np.ndarray) -> np.ndarray:
+    """Pixels of the links' orange (LINK_COLOR under meshcat's lights): hue within 12 degrees, saturated."""
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    mx, mn = rgb.max(axis=-1), rgb.min(axis=-1)
+    sat = (mx - mn) / np.maximum(mx, 1)
+    hue = np.degrees(np.arctan2(math.sqrt(3) * (g - b), 2 * r - g - b)) % 360
+    lr, lg, lb = (LINK_COLOR >> 16) & 255, (LINK_COLOR >> 8) & 255, LINK_COLOR & 255
+    link_hue = math.degrees(math.atan2(math.sqrt(3) * (lg - lb), 2 * lr - lg - lb)) % 360
+    return (np.abs(hue - link_hue) < 12) & (sat > 0.5) & (mx > 80)
+
+
+@pytest.fixture(scope="module")
+def replay(tmp_path_factory: Any) -> tuple[Path, Scene, gb_pin.BabbleResult]:
+    """A short planar5 run with its first movements recorded, exported to one HTML file."""
+    tmp = tmp_path_factory.mktemp("browser")
+    result = gb_pin.babble(
+        "planar5", movements=20, seed=0, record=gb_pin.Recording(every=1, first=0, last=10)
+    )
+    page = tmp / "replay.html"
+    export_replay(result, page, speed=1.0)
+    scene = Scene(OfflineWindow(), result.target, result.targets)
+    scene.draw_static()  # the same camera as the page's
+    return page, scene, result
+
+
+def expected_link_pixels(scene: Scene) -> float:
+    """Projected area of the links in pixels, from the camera distance and the field of view."""
+    visible_height = 2.0 * scene.camera_distance * math.tan(math.radians(CAMERA_FOV / 2.0))  # [m]
+    ppm = HEIGHT / visible_height
+    fig = scene.figure
+    area = sum(
+        (float(np.linalg.norm(b - a)) - 2 * fig.joint_radius) * 2 * fig.link_radius for _, a, b in fig.links
+    )
+    return area * ppm**2
+
+
+def test_replay_draws_the_chain_offline(
+    replay: tuple[Path, Scene, gb_pin.BabbleResult], tmp_path: Path
+) -> None:
+    """The page, opened from disk with every network fetch forbidden, draws the arm's links.
+
+    Half the derived link area is the lower bound (lighting darkens cylinder edges past the colour test,
+    joints cover link ends); twice the area the upper one (a wrong camera or scale breaks it).
+    """
+    page, scene, _ = replay
+    pixels = int(link_mask(screenshot(page, tmp_path / "early.png", tmp_path, 1500)).sum())
+    expected = expected_link_pixels(scene)
+    assert 0.5 * expected <= pixels <= 2.0 * expected, (pixels, expected)
+
+
+def test_replay_animation_plays(replay: tuple[Path, Scene, gb_pin.BabbleResult], tmp_path: Path) -> None:
+    """Two screenshots 2 s apart in virtual time (two movements at speed 1) show the arm in other postures.
+
+    The links' pixels must change by at least a fifth of the arm's area: the recorded postures 50 steps
+    apart differ by far more than a link's width (checked on the recording).
+    """
+    page, scene, result = replay
+    rec = result.recording
+    assert rec is not None
+    moved = np.linalg.norm(rec.position[50] - rec.position[0])
+    assert moved > 4 * scene.figure.link_radius  # the recording itself moves visibly
+    a = link_mask(screenshot(page, tmp_path / "t1.png", tmp_path, 1000))
+    b = link_mask(screenshot(page, tmp_path / "t2.png", tmp_path, 3000))
+    assert a.sum() > 0 and b.sum() > 0
+    changed = int((a ^ b).sum())
+    assert changed >= 0.2 * expected_link_pixels(scene), changed
