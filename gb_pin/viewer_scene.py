@@ -449,6 +449,7 @@ class Scene:
         self.center, self.extent = self._bounds()
         self._trail_buffer: list[NDArray[np.float64]] = []
         self._trail_shown = 0
+        self._target_shown: bool | None = None
 
     # -- geometry ----------------------------------------------------------------------------
     def embed(self, X: ArrayLike) -> NDArray[np.float64]:
@@ -573,7 +574,9 @@ class Scene:
         tf, _ = self.frame_transforms(q, target)
         batch = [_transform_message(p, T) for p, T in tf]
         show_target = target is not None and bool(np.all(np.isfinite(target)))
-        batch.append(_property_message(TARGET, "visible", show_target))
+        if show_target != self._target_shown:
+            batch.append(_property_message(TARGET, "visible", show_target))
+            self._target_shown = show_target
         if reached is not None and self.trail > 0:
             self._trail_buffer.insert(0, self.embed(reached)[0])
             del self._trail_buffer[self.trail :]
