@@ -9,10 +9,14 @@ ppm being pixels per metre in the arm's plane.
 
 from __future__ import annotations
 
+import asyncio
+import json
 import math
 import os
 import shutil
 import subprocess
+import time
+import urllib.request
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +25,7 @@ import pytest
 from PIL import Image
 
 import gb_pin
-from gb_pin.viewer import export_replay
+from gb_pin.viewer import Viewer, export_replay
 from gb_pin.viewer_scene import CAMERA_FOV, LINK_COLOR, Scene
 from gb_pin.viewer_server import OfflineWindow
 
@@ -127,3 +131,114 @@ def test_replay_animation_plays(replay: tuple[Path, Scene, gb_pin.BabbleResult],
     assert a.sum() > 0 and b.sum() > 0
     changed = int((a ^ b).sum())
     assert changed >= 0.2 * expected_link_pixels(scene), changed
+
+
+class DevToolsPage:
+    """Headless chromium showing ``url``, driven through the DevTools protocol (screenshots on demand).
+
+    The debugging port is chosen by chromium (port 0) and read from the profile's DevToolsActivePort;
+    chromium binds it to 127.0.0.1.
+    """
+
+    def __init__(self, url: str, tmp: Path) -> None:
+        profile = tmp / "profile-live"
+        self.proc = subprocess.Popen(
+            [
+                _chromium(),
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--enable-unsafe-swiftshader",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--no-first-run",
+                f"--user-data-dir={profile}",
+                "--remote-debugging-port=0",
+                "about:blank",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        port_file = profile / "DevToolsActivePort"
+        deadline = time.monotonic() + 60
+        while not (port_file.is_file() and port_file.read_text().strip()):
+            assert time.monotonic() < deadline, "chromium did not open its DevTools port"
+            time.sleep(0.1)
+        port = int(port_file.read_text().split()[0])
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/json") as resp:
+            pages = json.load(resp)
+        self.ws_url = next(p for p in pages if p["type"] == "page")["webSocketDebuggerUrl"]
+        self.loop = asyncio.new_event_loop()
+        self.ws: Any = self.loop.run_until_complete(self._connect())
+        self._id = 0
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            width=WIDTH,
+            height=HEIGHT,
+            deviceScaleFactor=1,
+            mobile=False,
+        )
+        self.call("Page.navigate", url=url)
+
+    async def _connect(self) -> Any:
+        from tornado.websocket import websocket_connect
+
+        return await websocket_connect(self.ws_url, max_message_size=1 << 28)
+
+    def call(self, method: str, **params: Any) -> dict[str, Any]:
+        """Send one DevTools command and return its result."""
+        self._id += 1
+        ident = self._id
+
+        async def roundtrip() -> dict[str, Any]:
+            await self.ws.write_message(json.dumps({"id": ident, "method": method, "params": params}))
+            while True:
+                msg = json.loads(await self.ws.read_message())
+                if msg.get("id") == ident:
+                    assert "error" not in msg, msg
+                    return dict(msg["result"])
+
+        return self.loop.run_until_complete(asyncio.wait_for(roundtrip(), 60))
+
+    def screenshot(self, png: Path) -> np.ndarray:
+        """The page's pixels now, as RGB."""
+        import base64
+
+        png.write_bytes(base64.b64decode(self.call("Page.captureScreenshot", format="png")["data"]))
+        return np.asarray(Image.open(png).convert("RGB")).astype(int)
+
+    def close(self) -> None:
+        """Disconnect and end chromium."""
+        self.ws.close()
+        self.loop.close()
+        self.proc.terminate()
+        self.proc.wait(30)
+
+
+def test_live_view_draws_the_chain_in_chromium(tmp_path: Path) -> None:
+    """The live page served on 127.0.0.1 renders the streamed arm, and keeps it after the server closes.
+
+    After a run watched by chromium, the page shows the links within the same derived bounds as the
+    offline page.
+    """
+    viewer = Viewer()
+    page = DevToolsPage(viewer.url, tmp_path)
+    try:
+        assert viewer.wait_for_browser(60), "chromium did not connect to the viewer"
+        result = gb_pin.babble("planar5", movements=30, seed=0, viewer=viewer, observe_every=1)
+        viewer.finish()
+        viewer.close()
+        scene = Scene(OfflineWindow(), result.target, result.targets)
+        scene.draw_static()
+        expected = expected_link_pixels(scene)
+        # The page draws as messages arrive: poll until the links show (or give up).
+        deadline = time.monotonic() + 30
+        while True:
+            pixels = int(link_mask(page.screenshot(tmp_path / "live.png")).sum())
+            if pixels >= 0.5 * expected or time.monotonic() > deadline:
+                break
+            time.sleep(0.5)
+    finally:
+        viewer.close()
+        page.close()
+    assert 0.5 * expected <= pixels <= 2.0 * expected, (pixels, expected)
