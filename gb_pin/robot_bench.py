@@ -120,8 +120,8 @@ def benchmark_robot(
     return result, ts
 
 
-def format_markdown(results: Sequence[PresetResult], command: str = "") -> str:
-    """The results table in markdown, with the machine and the command that produced it."""
+def format_markdown(results: Sequence[PresetResult], command: str = "", load: float | None = None) -> str:
+    """The results table in markdown, with the machine, its load and the command that produced it."""
     if not results:
         raise InvalidArgumentError("no results to format")
     r0 = results[0]
@@ -129,7 +129,10 @@ def format_markdown(results: Sequence[PresetResult], command: str = "") -> str:
     lines = [
         f"Measured on {platform.machine()} ({os.cpu_count()} cores), Python {platform.python_version()}"
         + (f", with `{command}`" if command else "")
-        + f"; {r0.trials} trials per preset (seeds 0-{r0.trials - 1}).",
+        + f"; {r0.trials} trials per preset (seeds 0-{r0.trials - 1})"
+        + (
+            f"; 1-minute load average {load:.1f} at the end (this run included)." if load is not None else "."
+        ),
         "",
         f"| preset | kind | DOF | axes | targets | E_0 [m] | E^X {a} median | E^X {a} 90 % | E^X {b} median "
         f"| E^X {b} 90 % | {b} median / E_0 | D^home [rad] | prototypes | us/step |",
@@ -231,7 +234,8 @@ def run(
                 f"{result.us_per_step:.2f} us/step",
                 flush=True,
             )
-    table = format_markdown(results, command)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
+    table = format_markdown(results, command, load)
     print(table)
     if json_path:
         data = {

@@ -307,11 +307,15 @@ def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:
 
 def package_dirs_for(urdf: str | os.PathLike[str]) -> list[str]:
     """Directories where ``package://`` mesh paths of an example-robot-data URDF resolve."""
-    root = example_robot_data_dir()
-    dirs = [str(root.parent), str(root)]
     parent = Path(os.fspath(urdf)).resolve().parent
-    dirs.extend(str(p) for p in (parent, parent.parent, parent.parent.parent))
-    return dirs
+    dirs = [str(p) for p in (parent, parent.parent, parent.parent.parent)]
+    try:
+        root = example_robot_data_dir()
+    except GbPinError:
+        return dirs
+    # example-robot-data's URDFs say package://example-robot-data/robots/...: the package
+    # directory is <prefix>/share.
+    return [str(root.parent.parent), str(root.parent), str(root), *dirs]
 
 
 def build_visual_model(

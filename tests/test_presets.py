@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -273,3 +274,13 @@ def test_spatial_learning_improves_over_seeds() -> None:
         e0, e1000, e3000 = result.history.error
         assert e1000 < 0.15 * e0
         assert e3000 < e1000
+
+
+@pytest.mark.parametrize("name", ["ur5", "talos_left_arm"])
+def test_preset_visual_meshes_load_on_demand(name: str) -> None:
+    """The viewer's meshes: example-robot-data's package:// paths resolve, one geometry per visual."""
+    visual = load_robot(name).visual_model()
+    assert visual.ngeoms > 0
+    for geometry in visual.geometryObjects:
+        # Primitives carry their kind ("BOX", "CYLINDER") as meshPath; meshes a file that exists.
+        assert geometry.meshPath.isupper() or Path(geometry.meshPath).is_file(), geometry.meshPath

@@ -98,7 +98,7 @@ def test_urdf_model_with_srdf_and_floating_base() -> None:
     assert list(model.names)[1:] == ["j1", "j2", "j3", "j4"]
     assert model.nq == 5  # j2 is continuous: (cos, sin)
     refs = {c.key(): np.asarray(c.data()) for c in model.referenceConfigurations}
-    np.testing.assert_allclose(refs["ready"], [0.3, np.cos(-0.5), np.sin(-0.5), 0.05, 0.2], atol=1e-15)
+    np.testing.assert_allclose(refs["ready"], [0.3, np.cos(-0.5), np.sin(-0.5), 0.05, 1.0], atol=1e-15)
     mobile = load_urdf_model(DATA / "small_arm.urdf", floating_base=True)
     assert mobile.joints[1].shortname() == "JointModelFreeFlyer"
     assert mobile.nq == 12

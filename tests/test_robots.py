@@ -218,7 +218,7 @@ def test_urdf_preset_loads_with_auto_targets() -> None:
     )
     assert preset.targets is None and preset.learner == {"radius": 0.05}
     target = _load_preset(preset, None, "small")
-    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 0.2], atol=1e-15)
+    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 1.0], atol=1e-15)
     assert target.targets is not None and target.targets.shape == (8, 3)
 
 

@@ -372,7 +372,7 @@ def test_from_urdf_matches_pinocchio_on_the_urdf_model() -> None:
     target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
     assert target.joints == ("j1", "j2", "j3", "j4")
     assert target.name == "small_arm"
-    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 0.2], atol=1e-15)
+    np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 1.0], atol=1e-15)
     np.testing.assert_array_equal(target.lower, [-2.0, -np.inf, 0.0, -1.5])
     np.testing.assert_array_equal(target.upper, [2.0, np.inf, 0.1, 1.5])
     model = pin.buildModelFromUrdf(str(SMALL_URDF))
