@@ -20,17 +20,19 @@ from gb_pin.chain import KinematicChain
 from gb_pin.exceptions import (
     DivergenceError,
     GbPinError,
+    GbPinWarning,
     InvalidArgumentError,
     NotFittedError,
     ResultFileError,
     UnknownRobotError,
+    UnreachableTargetWarning,
 )
 from gb_pin.io import load_result, save_result
 from gb_pin.llm import LocalLinearMap
 from gb_pin.metrics import evaluation_schedule, speed
 from gb_pin.robots import RobotPreset, grid_targets, load_robot, planar_chain, planar_home, robots
 from gb_pin.target import KinematicTarget
-from gb_pin.trials import TrialSet, run_trials
+from gb_pin.trials import Condition, Sweep, TrialSet, conditions_grid, run_sweep, run_trials
 
 __version__ = "0.1.0"
 
@@ -38,8 +40,10 @@ __all__ = [
     "BabbleConfig",
     "BabbleResult",
     "BabbleState",
+    "Condition",
     "DivergenceError",
     "GbPinError",
+    "GbPinWarning",
     "GoalBabbling",
     "History",
     "InvalidArgumentError",
@@ -51,10 +55,13 @@ __all__ = [
     "Recording",
     "ResultFileError",
     "RobotPreset",
+    "Sweep",
     "TrialSet",
     "UnknownRobotError",
+    "UnreachableTargetWarning",
     "__version__",
     "babble",
+    "conditions_grid",
     "default_sigma",
     "evaluation_schedule",
     "grid_targets",
@@ -64,6 +71,7 @@ __all__ = [
     "planar_home",
     "resume",
     "robots",
+    "run_sweep",
     "run_trials",
     "save_result",
     "speed",

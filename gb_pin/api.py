@@ -102,7 +102,7 @@ def babble(
     callback: Callable[[int], Any] | None = None,
     record: Recording | None = None,
     viewer: Any | None = None,
-    observe_every: int = 1,
+    observe_every: int = 10,
     checkpoint: str | os.PathLike[str] | None = None,
     checkpoint_every: int | None = None,
 ) -> BabbleResult:
@@ -123,7 +123,8 @@ def babble(
         radius: prototype radius d [m].
         path_length: L, steps per movement.
         p_home: probability of a home return.
-        targets: target set X* (N, n) [m]; default the robot's.
+        targets: target set X* (N, n) [m]; default the robot's, or for a target
+            without one the ``"auto"`` grid (:meth:`KinematicTarget.auto_targets`).
         eval_targets: evaluation set; default ``targets``.
         schedule: movement counts at which to record E^X and D^home.
         callback: called with the movement count as the run progresses.
@@ -132,7 +133,7 @@ def babble(
         viewer: an object with ``start(target, targets)`` and ``update(state)``
             (e.g. :class:`gb_pin.viewer.Viewer`), updated every ``observe_every``
             movements while babbling; it throttles itself.
-        observe_every: movements between viewer updates.
+        observe_every: movements between viewer updates (10 keeps the slowdown of learning small).
         checkpoint: write the complete state of the run to this file every
             ``checkpoint_every`` movements and at the end (atomically); continue
             a stopped run with :func:`resume`. Ctrl-C then writes a final
@@ -160,13 +161,10 @@ def babble(
         raise InvalidArgumentError(f"robot must be a preset name or a KinematicTarget, got {robot!r}")
     movements = check.positive_int("movements", movements)
     if targets is None:
-        if target.targets is None:
-            raise InvalidArgumentError(
-                f"robot {target.name!r} has no target set: pass targets=(N, {target.n_task}) array [m]"
-            )
-        X = target.targets
+        # A target without its own set learns the "auto" grid (reachable, around home, seeded).
+        X = target.targets if target.targets is not None else target.auto_targets()
     else:
-        X = check.points("targets", targets, target.n_task)
+        X = target.check_targets(targets)  # shape checks; warns about targets beyond reach
 
     def pick(name: str, value: Any, fallback: Any) -> Any:
         return value if value is not None else defaults.get(name, fallback)
@@ -211,7 +209,7 @@ def resume(
     callback: Callable[[int], Any] | None = None,
     checkpoint_every: int | None = None,
     viewer: Any | None = None,
-    observe_every: int = 1,
+    observe_every: int = 10,
 ) -> BabbleResult:
     """Continue a run from its checkpoint file; it ends bit-identical to an uninterrupted run.
 

@@ -36,3 +36,11 @@ class ResultFileError(GbPinError):
 
 class DivergenceError(GbPinError):
     """The learner's state became non-finite (e.g. a far too high learning rate)."""
+
+
+class GbPinWarning(UserWarning):
+    """Base class of the warnings gb_pin emits."""
+
+
+class UnreachableTargetWarning(GbPinWarning):
+    """Targets that no posture within the joint limits can reach (detected cheaply: beyond the reach)."""

@@ -259,6 +259,12 @@ class LocalLinearMap:
         single = np.ndim(X) == 1
         out = np.empty((pts.shape[0], self.n_outputs_))
         llm_predict_many(pts, self._P, self._W, self._O, self._K, self._radius, self._act, out)
+        bad = np.flatnonzero(~np.all(np.isfinite(out), axis=1))
+        if bad.size:
+            raise InvalidArgumentError(
+                f"X rows {bad[:5].tolist()} (e.g. {pts[bad[0]].tolist()}) lie so far from the learned "
+                "region that the linear extrapolation overflows; give inputs near the targets"
+            )
         return out[0] if single else out
 
     def jacobian(self, x: ArrayLike) -> NDArray[np.float64]:
