@@ -496,3 +496,18 @@ def test_visual_model_is_loaded_on_demand() -> None:
     assert visual.ngeoms == 5
     with pytest.raises(GbPinError, match="no meshes"):
         KinematicTarget(planar_chain(3), "tip").visual_model()
+
+
+@pytest.mark.parametrize("axes", ["x", "z", "xz", "yz", "xyz"])
+def test_learning_in_one_two_and_three_dimensions(axes: str) -> None:
+    """The robot-agnostic learner handles task dimensions n = 1, 2, 3 of one robot.
+
+    The small arm on its auto grid: E^X after 1000 movements is below 0.10 E_0 (the issue's
+    learning criterion) in each of 3 seeds (measured: 0.007 to 0.05 E_0).
+    """
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, axes=axes)
+    assert target.auto_targets().shape == (3 ** len(axes), len(axes))
+    for seed in range(3):
+        result = gb_pin.babble(target, movements=1000, seed=seed, schedule=[0, 1000])
+        assert result.inverse(result.targets).shape == (len(result.targets), 4)
+        assert result.error < 0.10 * result.history.error[0]
