@@ -550,8 +550,8 @@ def snapshot_figure(
         )
     axes[0].set_ylabel("y [m]")
     fig.suptitle(
-        f"Fig. {figure[3:]}: one trial of {robot} (η = {learning_rate:g}, seed {st.seed}); gray: targets X*, "
-        "black: reached f(g(x*)), blue: postures g(x*), dashed: home"
+        f"Fig. {figure[3:]}: one trial of {robot} (η = {learning_rate:g}, seed {st.seed})\n"
+        "gray: targets X*, black: reached f(g(x*)), blue: postures g(x*), dashed: home posture"
     )
     files = _save(fig, st.out, figure, formats)
     path = os.path.join(st.out, f"{figure}.json")
