@@ -202,3 +202,17 @@ def test_tasks_carry_only_plain_values(monkeypatch) -> None:  # type: ignore[no-
         assert isinstance(schedule, np.ndarray) and schedule.dtype == np.int64
         assert isinstance(kwargs, dict)
         assert len(pickle.dumps((robot, movements, seed, schedule, kwargs))) < 2000
+
+
+def test_local_runs_import_neither_dask_nor_matplotlib() -> None:
+    """Importing gb_pin and gb_pin.reproduce and running trials locally loads neither Dask nor matplotlib."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, gb_pin, gb_pin.reproduce, gb_pin.distributed\n"
+        "gb_pin.run_trials('planar2', trials=2, movements=2, workers=1)\n"
+        "print(sorted(m for m in ('distributed', 'dask', 'matplotlib') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
