@@ -205,6 +205,7 @@ def _trials(args: argparse.Namespace) -> int:
         workers=args.workers,
         progress=not args.quiet,
         scheduler=args.scheduler,
+        checkpoint=args.checkpoint,
         **babble_args,
     )
     wall = time.perf_counter() - start
@@ -342,6 +343,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the trials on this Dask scheduler, e.g. tcp://host:8786 (needs gb_pin[cluster])",
     )
     t.add_argument("--json", default=None, help="write movements, error, home_distance, initial_error")
+    t.add_argument(
+        "--checkpoint",
+        default=None,
+        help="trial journal: finished trials are appended to it and not recomputed when the command is rerun",
+    )
     t.add_argument("--quiet", action="store_true", help="no progress bar")
     t.set_defaults(func=_trials)
 

@@ -15,7 +15,7 @@ import os
 from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -332,6 +332,92 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
     return _Plan(condition, length, at, parameters, float(length) * (probe.target.n_joints + 5))
 
 
+class TrialJournal:
+    """Finished trials, appended one JSON line each, so an interrupted sweep recomputes nothing finished.
+
+    Each line holds a trial's key (robot, movements, seed, schedule, parameters) and its
+    output; lines are flushed and fsynced as trials finish. A crash mid-write leaves at
+    most one incomplete last line, which is ignored. The file can be shared by several
+    sweeps: a trial is reused only if every part of its key matches.
+
+    Args:
+        path: the journal file (created if missing).
+
+    Raises:
+        ResultFileError: the file exists but is not a gb_pin trial journal.
+    """
+
+    HEADER: ClassVar[dict[str, Any]] = {"format": "gb_pin.trial-journal", "format_version": 1}
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = os.fspath(path)
+        self.done: dict[str, TrialOutput] = {}
+        if os.path.exists(self.path):
+            self._read()
+        else:
+            with open(self.path, "w", encoding="utf-8") as fh:
+                fh.write(json.dumps(self.HEADER) + "\n")
+
+    @staticmethod
+    def key(task: TrialTask) -> str:
+        """A canonical string naming one trial."""
+        robot, movements, seed, schedule, parameters = task
+        return json.dumps(
+            [
+                robot,
+                int(movements),
+                int(seed),
+                [int(v) for v in schedule],
+                {k: _plain(v) for k, v in parameters.items()},
+            ],
+            sort_keys=True,
+        )
+
+    def _read(self) -> None:
+        try:
+            with open(self.path, encoding="utf-8") as fh:
+                lines = fh.read().split("\n")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ResultFileError(f"{self.path}: unreadable trial journal ({exc})") from exc
+        try:
+            header = json.loads(lines[0])
+        except ValueError:
+            header = None
+        if header != self.HEADER:
+            raise ResultFileError(f"{self.path}: not a gb_pin trial journal (first line {lines[0][:80]!r})")
+        complete = []
+        for line in lines[1:]:
+            try:
+                entry = json.loads(line)
+                out = (
+                    np.array(entry["error"], dtype=float),
+                    np.array(entry["home_distance"], dtype=float),
+                    int(entry["prototypes"]),
+                )
+                self.done[str(entry["key"])] = out
+                complete.append(line)
+            except (ValueError, KeyError, TypeError):
+                continue  # the last line of a run killed mid-write
+        # Rewrite without a torn line, so that appended lines start on a fresh line.
+        if len(complete) != len([ln for ln in lines[1:] if ln]):
+            tmp = self.path + ".tmp"
+            with open(tmp, "w", encoding="utf-8") as fh:
+                fh.write("\n".join([lines[0], *complete]) + "\n")
+            os.replace(tmp, self.path)
+
+    def record(self, task: TrialTask, out: TrialOutput) -> None:
+        """Append one finished trial durably."""
+        k = self.key(task)
+        self.done[k] = out
+        line = json.dumps(
+            {"key": k, "error": out[0].tolist(), "home_distance": out[1].tolist(), "prototypes": int(out[2])}
+        )
+        with open(self.path, "a", encoding="utf-8") as fh:
+            fh.write(line + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+
+
 def _execute(
     tasks: list[TrialTask],
     costs: list[float],
@@ -339,31 +425,46 @@ def _execute(
     scheduler: Any,
     progress: bool,
     desc: str,
+    journal: TrialJournal | None = None,
 ) -> list[TrialOutput]:
-    """Run the tasks (longest first) and return their outputs in task order."""
+    """Run the tasks (longest first, those in ``journal`` not again); outputs in task order."""
     results: list[TrialOutput | None] = [None] * len(tasks)
+    if journal is not None:
+        for i, task in enumerate(tasks):
+            results[i] = journal.done.get(TrialJournal.key(task))
     bar = None
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(tasks), unit="trial", desc=desc)
+        finished = sum(r is not None for r in results)
+        bar = tqdm(total=len(tasks), initial=finished, unit="trial", desc=desc)
 
     def done(i: int, out: TrialOutput) -> None:
         results[i] = out
+        if journal is not None:
+            journal.record(tasks[i], out)
         if bar is not None:
             bar.update(1)
 
-    order = sorted(range(len(tasks)), key=lambda i: -costs[i])
+    todo = [i for i in range(len(tasks)) if results[i] is None]
+    order = sorted(todo, key=lambda i: -costs[i])
     try:
         if scheduler is not None:
             from gb_pin.distributed import map_tasks
 
-            map_tasks(run_one_trial, tasks, scheduler, done, priorities=costs)
-        elif workers == 1 or len(tasks) == 1:
+            sub = [tasks[i] for i in todo]
+
+            def done_sub(k: int, out: TrialOutput) -> None:
+                done(todo[k], out)
+
+            map_tasks(run_one_trial, sub, scheduler, done_sub, priorities=[costs[i] for i in todo])
+        elif not todo:
+            pass
+        elif workers == 1 or len(todo) == 1:
             for i in order:
                 done(i, run_one_trial(*tasks[i]))
         else:
-            with ProcessPoolExecutor(max_workers=min(workers or 1, len(tasks))) as pool:
+            with ProcessPoolExecutor(max_workers=min(workers or 1, len(todo))) as pool:
                 futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
                 for fut in as_completed(futures):
                     done(futures[fut], fut.result())
@@ -410,6 +511,7 @@ def run_sweep(
     workers: int | None = None,
     scheduler: Any = None,
     progress: bool = False,
+    checkpoint: str | os.PathLike[str] | None = None,
     **grid: Any,
 ) -> Sweep:
     """Run independent trials for several conditions, all trials sharing one pool of workers.
@@ -429,6 +531,9 @@ def run_sweep(
             ``dask.distributed.Client``: run the trials on that cluster instead
             (see :mod:`gb_pin.distributed`); results are identical to a local run.
         progress: show a progress bar over all trials (tqdm).
+        checkpoint: a :class:`TrialJournal` file: every finished trial is appended to it,
+            and trials already in it are not run again (resume an interrupted sweep by
+            running the same call again).
         **grid: ``robot`` and babble arguments (values or lists of values).
 
     Returns:
@@ -457,7 +562,8 @@ def run_sweep(
             tasks.append((p.condition.robot, p.movements, seed + i, p.schedule, p.parameters))
             costs.append(p.cost)
     desc = plans[0].condition.label if len(plans) == 1 else f"{len(plans)} conditions"
-    outputs = _execute(tasks, costs, workers, scheduler, progress, desc)
+    journal = None if checkpoint is None else TrialJournal(checkpoint)
+    outputs = _execute(tasks, costs, workers, scheduler, progress, desc, journal)
     results = tuple(_assemble(p, seed, outputs[k * trials : (k + 1) * trials]) for k, p in enumerate(plans))
     return Sweep(conditions=tuple(conditions), results=results)
 
@@ -505,6 +611,7 @@ def run_trials(
     schedule: Sequence[int] | None = None,
     progress: bool = False,
     scheduler: Any = None,
+    checkpoint: str | os.PathLike[str] | None = None,
     **babble_args: Any,
 ) -> TrialSet:
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
@@ -520,6 +627,8 @@ def run_trials(
         progress: show a progress bar (tqdm).
         scheduler: a Dask scheduler address or ``dask.distributed.Client`` to run on
             (see :func:`run_sweep`).
+        checkpoint: a trial journal file; finished trials in it are not recomputed
+            (see :class:`TrialJournal`).
         **babble_args: learning_rate, sigma, sigma_delta, radius, path_length, p_home.
 
     Returns:
@@ -541,5 +650,6 @@ def run_trials(
         workers=workers,
         scheduler=scheduler,
         progress=progress,
+        checkpoint=checkpoint,
     )
     return sweep.results[0]

@@ -216,3 +216,49 @@ def test_local_runs_import_neither_dask_nor_matplotlib() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_journal_skips_finished_trials_and_gives_the_same_result(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """With checkpoint=, an interrupted run_trials resumes: finished trials are read, not recomputed."""
+    import gb_pin.trials as trials_module
+
+    path = tmp_path / "trials.jsonl"
+    full = gb_pin.run_trials("planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3)
+    calls: list[int] = []
+    real = trials_module.run_one_trial
+
+    def crashing(robot, movements, seed, schedule, kwargs):  # type: ignore[no-untyped-def]
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        calls.append(seed)
+        return real(robot, movements, seed, schedule, kwargs)
+
+    monkeypatch.setattr(trials_module, "run_one_trial", crashing)
+    with pytest.raises(KeyboardInterrupt):
+        gb_pin.run_trials(
+            "planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3, checkpoint=path
+        )
+    assert len(path.read_text().splitlines()) == 1 + 3
+    # A torn last line (killed mid-write) is ignored.
+    with open(path, "a") as fh:
+        fh.write('{"key": "half a line')
+    calls.clear()
+    monkeypatch.setattr(trials_module, "run_one_trial", lambda *a: (calls.append(a[2]), real(*a))[1])
+    resumed = gb_pin.run_trials(
+        "planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3, checkpoint=path
+    )
+    assert len(calls) == 2  # only the two unfinished trials ran
+    np.testing.assert_array_equal(resumed.error, full.error)
+    np.testing.assert_array_equal(resumed.home_distance, full.home_distance)
+    np.testing.assert_array_equal(resumed.prototypes, full.prototypes)
+    # Another condition in the same journal is not confused with this one.
+    other = gb_pin.run_trials("planar3", trials=2, movements=12, seed=2, workers=1, checkpoint=path)
+    assert not np.array_equal(other.error, full.error[:2])
+
+
+def test_journal_refuses_a_foreign_file(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """A checkpoint file that is not a trial journal raises ResultFileError naming it."""
+    path = tmp_path / "notes.txt"
+    path.write_text("hello\n")
+    with pytest.raises(gb_pin.ResultFileError, match=r"notes\.txt"):
+        gb_pin.run_trials("planar3", trials=2, movements=5, workers=1, checkpoint=path)
