@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Sequence
@@ -186,16 +187,7 @@ def _bench(args: argparse.Namespace) -> int:
 def _trials(args: argparse.Namespace) -> int:
     from gb_pin.trials import run_trials
 
-    babble_args = {
-        k: v
-        for k, v in (
-            ("learning_rate", args.learning_rate),
-            ("sigma", args.sigma),
-            ("sigma_delta", args.sigma_delta),
-            ("radius", args.radius),
-        )
-        if v is not None
-    }
+    babble_args = {k: getattr(args, k) for k in _LEARNER_OPTIONS if getattr(args, k) is not None}
     start = time.perf_counter()
     result = run_trials(
         robot=args.robot,
@@ -267,6 +259,22 @@ def _robots(args: argparse.Namespace) -> int:
     return 0
 
 
+_LEARNER_OPTIONS = {
+    "learning_rate": (float, "eta (default 0.1, or the preset's)"),
+    "sigma": (float, "exploration noise [rad] (default Eq. 12, or the preset's)"),
+    "sigma_delta": (float, "noise random-walk step [rad] (default 0.1 sigma)"),
+    "radius": (float, "prototype radius d [m] (default 0.1, or the preset's)"),
+    "path_length": (int, "steps per movement L (default 25)"),
+    "p_home": (float, "home-return probability (default 0.1)"),
+}
+
+
+def _add_learner_options(parser: argparse.ArgumentParser) -> None:
+    """The learner's hyperparameters as options (None: the robot preset's or the paper's default)."""
+    for name, (kind, text) in _LEARNER_OPTIONS.items():
+        parser.add_argument("--" + name.replace("_", "-"), type=kind, default=None, help=text)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``gb-pin`` argument parser."""
     parser = argparse.ArgumentParser(
@@ -286,14 +294,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="movements, home returns included (default 1000)",
     )
     b.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    b.add_argument("--learning-rate", type=float, default=None, help="eta (default 0.1)")
-    b.add_argument("--sigma", type=float, default=None, help="exploration noise [rad] (default Eq. 12)")
-    b.add_argument(
-        "--sigma-delta", type=float, default=None, help="noise random-walk step (default 0.1 sigma)"
-    )
-    b.add_argument("--radius", type=float, default=None, help="prototype radius d [m] (default 0.1)")
-    b.add_argument("--path-length", type=int, default=None, help="steps per movement L (default 25)")
-    b.add_argument("--p-home", type=float, default=None, help="home-return probability (default 0.1)")
+    _add_learner_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     b.add_argument(
         "--checkpoint", default=None, help="write the run's complete state to this file as it goes (atomic)"
@@ -333,10 +334,7 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--movements", type=int, default=300, help="movements per trial (default 300)")
     t.add_argument("--seed", type=int, default=0, help="seed of trial 0; trial i uses seed + i")
     t.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
-    t.add_argument("--learning-rate", type=float, default=None, help="eta (default 0.1)")
-    t.add_argument("--sigma", type=float, default=None, help="exploration noise [rad] (default Eq. 12)")
-    t.add_argument("--sigma-delta", type=float, default=None, help="noise random-walk step")
-    t.add_argument("--radius", type=float, default=None, help="prototype radius d [m]")
+    _add_learner_options(t)
     t.add_argument(
         "--scheduler",
         default=None,
@@ -411,6 +409,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except GbPinError as exc:
         print(f"gb-pin: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # Output piped into e.g. `head`: stop quietly, as Unix tools do.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except KeyboardInterrupt as exc:
         print(f"gb-pin: {exc or 'interrupted'}", file=sys.stderr)
         return 130
