@@ -247,15 +247,7 @@ def resume(
             )
     if checkpoint_every is not None:
         check.positive_int("checkpoint_every", checkpoint_every)
-    cfg = info.config
-    learner = GoalBabbling(
-        learning_rate=cfg.learning_rate,
-        sigma=cfg.sigma,
-        sigma_delta=cfg.sigma_delta,
-        radius=cfg.radius,
-        path_length=cfg.path_length,
-        p_home=cfg.p_home,
-    )
+    learner = GoalBabbling.from_config(info.config)
     learner.state_ = state
     runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)
     observer = _attach(viewer, robot, state.targets)

@@ -80,7 +80,7 @@ class BabbleConfig:
         check.positive_int("path_length", self.path_length)
         check.probability("p_home", self.p_home)
 
-    def as_dict(self) -> dict[str, float]:
+    def as_dict(self) -> dict[str, Any]:
         """The parameters as a plain dict."""
         return asdict(self)
 
@@ -504,6 +504,11 @@ class GoalBabbling:
         self.radius = radius
         self.path_length = path_length
         self.p_home = p_home
+
+    @classmethod
+    def from_config(cls, config: BabbleConfig) -> GoalBabbling:
+        """A learner with the (resolved) hyperparameters of ``config``."""
+        return cls(**config.as_dict())
 
     def _resolve(self, n_joints: int) -> BabbleConfig:
         sigma = default_sigma(n_joints) if self.sigma is None else self.sigma

@@ -73,18 +73,13 @@ def _babble(args: argparse.Namespace) -> int:
                 robot=args.robot,
                 movements=args.movements,
                 seed=args.seed,
-                learning_rate=args.learning_rate,
-                sigma=args.sigma,
-                sigma_delta=args.sigma_delta,
-                radius=args.radius,
-                path_length=args.path_length,
-                p_home=args.p_home,
                 callback=progress,
                 checkpoint=args.checkpoint,
                 checkpoint_every=args.checkpoint_every,
                 record=record,
                 viewer=viewer,
                 observe_every=observe_every,
+                **{k: getattr(args, k) for k in _LEARNER_OPTIONS},
             )
     finally:
         if bar is not None:

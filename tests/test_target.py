@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from kinematics_helpers import random_placement
 
 import gb_pin
 from gb_pin import InvalidArgumentError, KinematicTarget, UnknownRobotError
@@ -19,20 +20,6 @@ from gb_pin.exceptions import GbPinError, UnreachableTargetWarning
 from gb_pin.robots import planar_chain
 
 ATOL = 1e-12  # [m]
-
-
-def random_placement(rng: np.random.Generator) -> pin.SE3:
-    """Random rigid placement: rotation from a seeded unit quaternion, translation in [-0.4, 0.4]^3."""
-    quaternion = rng.normal(size=4)
-    w, x, y, z = quaternion / np.linalg.norm(quaternion)
-    R = np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-    return pin.SE3(R, rng.uniform(-0.4, 0.4, 3))
 
 
 def limited(lower: float, upper: float) -> tuple[np.ndarray, ...]:
