@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import gb_pin
-from gb_pin.targets_auto import auto_grid
+from gb_pin.robot.targets_auto import auto_grid
 
 HERE = Path(__file__).resolve().parent
 SMALL_ARM = HERE.parent / "tests" / "data" / "small_arm.urdf"

@@ -4,75 +4,100 @@
 >>> result = gb_pin.babble(robot="planar5", movements=100, seed=0)
 >>> result.inverse([0.5, 0.0]).shape
 (5,)
+
+The public names are exported lazily (PEP 562): ``import gb_pin`` loads nothing heavy,
+and ``import gb_pin.learn`` (the robot-agnostic learner) loads neither pinocchio nor
+meshcat. The layers are described in docs/ARCHITECTURE.md.
 """
 
-from gb_pin.api import BabbleResult, babble, resume
-from gb_pin.babbling import (
-    BabbleConfig,
-    BabbleState,
-    GoalBabbling,
-    History,
-    RecordedSteps,
-    Recording,
-    default_sigma,
-)
-from gb_pin.chain import KinematicChain
-from gb_pin.exceptions import (
-    DivergenceError,
-    GbPinError,
-    GbPinWarning,
-    InvalidArgumentError,
-    NotFittedError,
-    ResultFileError,
-    UnknownRobotError,
-    UnreachableTargetWarning,
-)
-from gb_pin.io import load_result, save_result
-from gb_pin.llm import LocalLinearMap
-from gb_pin.metrics import evaluation_schedule, speed
-from gb_pin.robots import RobotPreset, grid_targets, load_robot, planar_chain, planar_home, robots
-from gb_pin.target import KinematicTarget
-from gb_pin.trials import Condition, Sweep, TrialSet, conditions_grid, run_sweep, run_trials
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "BabbleConfig",
-    "BabbleResult",
-    "BabbleState",
-    "Condition",
-    "DivergenceError",
-    "GbPinError",
-    "GbPinWarning",
-    "GoalBabbling",
-    "History",
-    "InvalidArgumentError",
-    "KinematicChain",
-    "KinematicTarget",
-    "LocalLinearMap",
-    "NotFittedError",
-    "RecordedSteps",
-    "Recording",
-    "ResultFileError",
-    "RobotPreset",
-    "Sweep",
-    "TrialSet",
-    "UnknownRobotError",
-    "UnreachableTargetWarning",
-    "__version__",
-    "babble",
-    "conditions_grid",
-    "default_sigma",
-    "evaluation_schedule",
-    "grid_targets",
-    "load_result",
-    "load_robot",
-    "planar_chain",
-    "planar_home",
-    "resume",
-    "robots",
-    "run_sweep",
-    "run_trials",
-    "save_result",
-    "speed",
-]
+# public name -> the module that defines it
+_EXPORTS: dict[str, str] = {
+    "BabbleConfig": "gb_pin.learn.config",
+    "default_sigma": "gb_pin.learn.config",
+    "History": "gb_pin.learn.history",
+    "RecordedSteps": "gb_pin.learn.history",
+    "Recording": "gb_pin.learn.history",
+    "BabbleState": "gb_pin.learn.state",
+    "GoalBabbling": "gb_pin.learn.learner",
+    "KinematicChain": "gb_pin.learn.body.chain",
+    "LocalLinearMap": "gb_pin.learn.llm",
+    "evaluation_schedule": "gb_pin.learn.metrics",
+    "speed": "gb_pin.learn.metrics",
+    "DivergenceError": "gb_pin.exceptions",
+    "GbPinError": "gb_pin.exceptions",
+    "GbPinWarning": "gb_pin.exceptions",
+    "InvalidArgumentError": "gb_pin.exceptions",
+    "NotFittedError": "gb_pin.exceptions",
+    "ResultFileError": "gb_pin.exceptions",
+    "UnknownRobotError": "gb_pin.exceptions",
+    "UnreachableTargetWarning": "gb_pin.exceptions",
+    "KinematicTarget": "gb_pin.robot.target",
+    "RobotPreset": "gb_pin.robot.presets",
+    "load_robot": "gb_pin.robot.presets",
+    "robots": "gb_pin.robot.presets",
+    "planar_chain": "gb_pin.robot.planar",
+    "planar_home": "gb_pin.robot.planar",
+    "grid_targets": "gb_pin.robot.grids",
+    "BabbleResult": "gb_pin.runs.result",
+    "babble": "gb_pin.runs.api",
+    "resume": "gb_pin.runs.api",
+    "load_result": "gb_pin.runs.results_file",
+    "save_result": "gb_pin.runs.results_file",
+    "Condition": "gb_pin.experiments.trials",
+    "Sweep": "gb_pin.experiments.trials",
+    "TrialSet": "gb_pin.experiments.trials",
+    "conditions_grid": "gb_pin.experiments.trials",
+    "run_sweep": "gb_pin.experiments.trials",
+    "run_trials": "gb_pin.experiments.trials",
+}
+
+__all__ = sorted([*_EXPORTS, "__version__"])
+
+
+def __getattr__(name: str) -> Any:
+    """Import the module defining a public name on first use (PEP 562)."""
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gb_pin' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})
+
+
+if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
+    from gb_pin.exceptions import (
+        DivergenceError,
+        GbPinError,
+        GbPinWarning,
+        InvalidArgumentError,
+        NotFittedError,
+        ResultFileError,
+        UnknownRobotError,
+        UnreachableTargetWarning,
+    )
+    from gb_pin.experiments.trials import Condition, Sweep, TrialSet, conditions_grid, run_sweep, run_trials
+    from gb_pin.learn.body.chain import KinematicChain
+    from gb_pin.learn.config import BabbleConfig, default_sigma
+    from gb_pin.learn.history import History, RecordedSteps, Recording
+    from gb_pin.learn.learner import GoalBabbling
+    from gb_pin.learn.llm import LocalLinearMap
+    from gb_pin.learn.metrics import evaluation_schedule, speed
+    from gb_pin.learn.state import BabbleState
+    from gb_pin.robot.grids import grid_targets
+    from gb_pin.robot.planar import planar_chain, planar_home
+    from gb_pin.robot.presets import RobotPreset, load_robot, robots
+    from gb_pin.robot.target import KinematicTarget
+    from gb_pin.runs.api import babble, resume
+    from gb_pin.runs.result import BabbleResult
+    from gb_pin.runs.results_file import load_result, save_result

@@ -38,9 +38,17 @@ class DivergenceError(GbPinError):
     """The learner's state became non-finite (e.g. a far too high learning rate)."""
 
 
+class ViewerError(GbPinError):
+    """The viewer cannot start (meshcat missing, port taken, ...) or was asked for something impossible."""
+
+
 class GbPinWarning(UserWarning):
     """Base class of the warnings gb_pin emits."""
 
 
 class UnreachableTargetWarning(GbPinWarning):
     """Targets that no posture within the joint limits can reach (detected cheaply: beyond the reach)."""
+
+
+class ViewerWarning(GbPinWarning):
+    """A viewer could not start; the run goes on without it."""

@@ -1,4 +1,4 @@
-"""Tests of gb_pin.api (babble, BabbleResult) and gb_pin.io (save_result, load_result).
+"""Tests of gb_pin.runs.api (babble, BabbleResult) and gb_pin.runs.results_file (save_result, load_result).
 
 Bad input must raise gb_pin's own errors (ValueError subclasses for arguments) with a message that
 names the parameter and the value received; broken result files raise ResultFileError naming the file.

@@ -1,4 +1,4 @@
-"""Tests of gb_pin.babbling and the compiled loop (paper Sec. II) against an independent reference.
+"""Tests of gb_pin.learn.babbling and the compiled loop (paper Sec. II) against an independent reference.
 
 ``tests/reference.py`` re-implements online goal babbling in plain numpy from the paper, with its own
 closed-form forward kinematics of the planar arm. gb_pin and the reference see the same random numbers

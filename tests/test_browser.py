@@ -26,8 +26,8 @@ from PIL import Image
 
 import gb_pin
 from gb_pin.viewer import Viewer, export_replay
-from gb_pin.viewer_scene import CAMERA_FOV, LINK_COLOR, Scene
-from gb_pin.viewer_server import OfflineWindow
+from gb_pin.viewer.scene import CAMERA_FOV, LINK_COLOR, Scene
+from gb_pin.viewer.server import OfflineWindow
 
 WIDTH, HEIGHT = 800, 600
 

@@ -1,4 +1,4 @@
-"""Tests of gb_pin.chain: compiled forward kinematics against Pinocchio and the planar closed form.
+"""Tests of gb_pin.learn.body.chain: compiled forward kinematics against Pinocchio and the planar closed form.
 
 ``KinematicTarget.chain.forward`` (compiled) is compared with ``KinematicTarget.forward``
 (``pin.framesForwardKinematics``). Both are sums of at most a few hundred products of
@@ -15,8 +15,8 @@ import pytest
 from kinematics_helpers import random_placement
 
 from gb_pin import KinematicChain, KinematicTarget
-from gb_pin.chain import PRISMATIC, REVOLUTE
-from gb_pin.robots import planar_chain
+from gb_pin.learn.body.chain import PRISMATIC, REVOLUTE
+from gb_pin.robot.planar import planar_chain
 
 ATOL = 1e-12  # [m]
 
@@ -192,10 +192,14 @@ def test_chain_arrays() -> None:
     np.testing.assert_array_equal(chain.parents, np.arange(-1, len(kinds) - 1))
     np.testing.assert_array_equal(chain.kinds, kinds)
     np.testing.assert_allclose(np.linalg.norm(chain.axes, axis=1), 1.0, rtol=1e-15)
-    assert len(chain.as_tuple()) == 9
-    rot_ws, pos_ws = chain.workspace()
-    assert rot_ws.shape == (len(kinds), 3, 3)
-    assert pos_ws.shape == (len(kinds), 3)
+    body = chain.kernel()
+    assert len(body.joints) == 6 and body.task.axes is chain.task_axes
+    assert body.rot_ws.shape == (len(kinds), 3, 3)
+    assert body.pos_ws.shape == (len(kinds), 3)
+    chain.validate()
+    again = KinematicChain.from_arrays(chain.to_arrays())
+    for name, value in chain.to_arrays().items():
+        np.testing.assert_array_equal(np.asarray(getattr(again, name.removeprefix("chain_"))), value)
 
     tree = KinematicTarget(branching_model(0), "hand").chain
     assert all(p < i for i, p in enumerate(tree.parents))

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import gb_pin
-from gb_pin.checkpoint import read_checkpoint
+from gb_pin.runs.checkpoint import read_checkpoint
 
 
 class _CrashError(Exception):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import gb_pin
-import gb_pin.distributed
+import gb_pin.experiments.distributed
 
 distributed = pytest.importorskip("distributed")
 
@@ -56,12 +56,14 @@ def test_worker_errors_reach_the_caller(cluster) -> None:  # type: ignore[no-unt
         raise gb_pin.DivergenceError("diverged on a worker")
 
     with pytest.raises(gb_pin.DivergenceError, match="diverged on a worker"):
-        gb_pin.distributed.map_tasks(boom, [(1,), (2,)], cluster.scheduler_address, lambda i, out: None)
+        gb_pin.experiments.distributed.map_tasks(
+            boom, [(1,), (2,)], cluster.scheduler_address, lambda i, out: None
+        )
 
 
 def test_unreachable_scheduler_is_a_clear_error(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """A scheduler nobody listens on gives GbPinError naming the address, not a Dask traceback."""
-    monkeypatch.setattr(gb_pin.distributed, "CONNECT_TIMEOUT", 1.0)
+    monkeypatch.setattr(gb_pin.experiments.distributed, "CONNECT_TIMEOUT", 1.0)
     with pytest.raises(gb_pin.GbPinError, match=r"127\.0\.0\.1:9"):
         gb_pin.run_trials("planar3", trials=2, movements=3, scheduler="tcp://127.0.0.1:9")
     with pytest.raises(gb_pin.InvalidArgumentError, match="scheduler must be"):

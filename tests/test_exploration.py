@@ -1,4 +1,4 @@
-"""Tests of gb_pin.exploration: the structured continuous variation of paper Sec. II-B (Eq. 8).
+"""Tests of gb_pin.learn.exploration: the structured continuous variation of paper Sec. II-B (Eq. 8).
 
 Statistical tolerances: a sum of k squared i.i.d. N(0, s^2) values divided by s^2 is
 chi-square with k degrees of freedom; its bounds are taken at +-Z standard normal
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from gb_pin import InvalidArgumentError
-from gb_pin.exploration import StructuredNoise, noise_add, noise_init, noise_walk
+from gb_pin.learn.exploration import StructuredNoise, noise_add, noise_init, noise_walk
 
 Z = 5.0
 

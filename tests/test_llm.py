@@ -1,4 +1,4 @@
-"""Tests of gb_pin.llm: the local-linear map of paper Sec. II-C.
+"""Tests of gb_pin.learn.llm: the local-linear map of paper Sec. II-C.
 
 Expected values are recomputed here in plain numpy from the formulas of Sec. II-C
 (and the module's documented conventions: W_k acts on u_k = (x - p_k) / d, the

@@ -1,4 +1,4 @@
-"""Tests of gb_pin.metrics: the evaluation schedule and the speed measure S(Q, e) of paper Eq. 11."""
+"""Tests of gb_pin.learn.metrics: the evaluation schedule and the speed measure S(Q, e) of paper Eq. 11."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tests of the robot presets in robots/*.toml (loaded through gb_pin.robots and gb_pin.target).
+"""Tests of the robot presets in robots/*.toml (loaded through gb_pin.robot.presets and gb_pin.robot.target).
 
 Forward kinematics are checked against Pinocchio on the *full* model, built here independently from
 the URDF (pinocchio.buildModelFromUrdf, a free flyer for humanoids, the SRDF's half_sitting), with
@@ -23,8 +23,8 @@ import pytest
 
 import gb_pin
 from gb_pin import KinematicTarget, Recording, load_robot, robots
-from gb_pin.robot_models import DESCRIPTIONS, example_robot_data_dir
-from gb_pin.targets_auto import check_reachable, sampling_bounds
+from gb_pin.robot.models import DESCRIPTIONS, example_robot_data_dir
+from gb_pin.robot.targets_auto import check_reachable, sampling_bounds
 
 ATOL = 1e-12  # [m]
 

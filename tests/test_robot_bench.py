@@ -1,4 +1,4 @@
-"""Tests of gb_pin.robot_bench: the results table of docs/ROBOTS.md (on a tiny planar run)."""
+"""Tests of gb_pin.experiments.robot_bench: the results table of docs/ROBOTS.md (on a tiny planar run)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from gb_pin import InvalidArgumentError, UnknownRobotError
 from gb_pin.exceptions import GbPinError
-from gb_pin.robot_bench import (
+from gb_pin.experiments.robot_bench import (
     BEGIN,
     END,
     benchmark_robot,
@@ -19,7 +19,7 @@ from gb_pin.robot_bench import (
     run,
     update_document,
 )
-from gb_pin.robots import robots
+from gb_pin.robot.presets import robots
 
 
 def test_default_robots_cover_every_preset() -> None:

@@ -1,4 +1,4 @@
-"""Tests of gb_pin.robot_models: our loader of example-robot-data robots and URDF files.
+"""Tests of gb_pin.robot.models: our loader of example-robot-data robots and URDF files.
 
 example-robot-data 6.x ships robot files but no Python loader; these tests walk the whole registry
 (robots are data: every entry must load) and check the errors a user meets with bad files.
@@ -14,7 +14,7 @@ import pytest
 
 from gb_pin import InvalidArgumentError, UnknownRobotError
 from gb_pin.exceptions import GbPinError
-from gb_pin.robot_models import (
+from gb_pin.robot.models import (
     DESCRIPTIONS,
     build_visual_model,
     describe,

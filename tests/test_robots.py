@@ -1,4 +1,4 @@
-"""Tests of gb_pin.robots: the planar presets of paper Sec. III and the preset registry."""
+"""Tests of gb_pin.robot.presets: the planar presets of paper Sec. III and the preset registry."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from gb_pin import (
     planar_home,
     robots,
 )
-from gb_pin.robots import _load_preset, _read_preset, format_presets
+from gb_pin.robot.presets import _load_preset, _read_preset, format_presets
 
 EPS = np.finfo(float).eps
 

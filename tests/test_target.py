@@ -1,4 +1,4 @@
-"""Tests of gb_pin.target: KinematicTarget built from a Pinocchio model.
+"""Tests of gb_pin.robot.target: KinematicTarget built from a Pinocchio model.
 
 Reference values come from ``pin.framesForwardKinematics`` on the *full* model,
 with the configuration vector assembled here by hand (continuous joints as
@@ -17,7 +17,7 @@ from kinematics_helpers import random_placement
 import gb_pin
 from gb_pin import InvalidArgumentError, KinematicTarget, UnknownRobotError
 from gb_pin.exceptions import GbPinError, UnreachableTargetWarning
-from gb_pin.robots import planar_chain
+from gb_pin.robot.planar import planar_chain
 
 ATOL = 1e-12  # [m]
 

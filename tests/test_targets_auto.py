@@ -1,4 +1,4 @@
-"""Tests of gb_pin.targets_auto: reachability, the "auto" grid, the beyond-reach bound, target specs.
+"""Tests of gb_pin.robot.targets_auto: reachability, the "auto" grid, the beyond-reach bound, target specs.
 
 Reachability is checked by seeded sampling and a projected descent.
 
@@ -18,7 +18,7 @@ import pytest
 
 from gb_pin import InvalidArgumentError, KinematicTarget, load_robot, planar_chain
 from gb_pin.exceptions import UnreachableTargetWarning
-from gb_pin.targets_auto import (
+from gb_pin.robot.targets_auto import (
     TOLERANCE,
     _solve_small,
     auto_grid,

@@ -183,7 +183,7 @@ def test_tasks_carry_only_plain_values(monkeypatch) -> None:  # type: ignore[no-
     """A cluster worker receives a preset name, numbers and a small array, no model (pickled < 2 kB)."""
     import pickle
 
-    import gb_pin.distributed
+    import gb_pin.experiments.distributed
 
     seen = []
 
@@ -192,7 +192,7 @@ def test_tasks_carry_only_plain_values(monkeypatch) -> None:  # type: ignore[no-
             seen.append(task)
             on_result(i, fn(*task))
 
-    monkeypatch.setattr(gb_pin.distributed, "map_tasks", fake_map_tasks)
+    monkeypatch.setattr(gb_pin.experiments.distributed, "map_tasks", fake_map_tasks)
     ts = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, scheduler="tcp://unused:8786")
     local = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, workers=1)
     np.testing.assert_array_equal(ts.error, local.error)
@@ -210,7 +210,7 @@ def test_local_runs_import_neither_dask_nor_matplotlib() -> None:
     import sys
 
     code = (
-        "import sys, gb_pin, gb_pin.reproduce, gb_pin.distributed\n"
+        "import sys, gb_pin, gb_pin.reproduce, gb_pin.experiments.distributed\n"
         "gb_pin.run_trials('planar2', trials=2, movements=2, workers=1)\n"
         "print(sorted(m for m in ('distributed', 'dask', 'matplotlib') if m in sys.modules))\n"
     )
@@ -220,7 +220,7 @@ def test_local_runs_import_neither_dask_nor_matplotlib() -> None:
 
 def test_journal_skips_finished_trials_and_gives_the_same_result(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """With checkpoint=, an interrupted run_trials resumes: finished trials are read, not recomputed."""
-    import gb_pin.trials as trials_module
+    import gb_pin.experiments.trials as trials_module
 
     path = tmp_path / "trials.jsonl"
     full = gb_pin.run_trials("planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3)

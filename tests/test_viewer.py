@@ -37,7 +37,7 @@ from gb_pin.viewer import (
     parse_range,
     select_movements,
 )
-from gb_pin.viewer_scene import (
+from gb_pin.viewer.scene import (
     OVERLAY,
     ROBOT,
     TARGET,
@@ -48,7 +48,7 @@ from gb_pin.viewer_scene import (
     grid_shape,
     quaternions,
 )
-from gb_pin.viewer_server import CONTENT_SECURITY_POLICY, LOOPBACK, LocalServer, OfflineWindow
+from gb_pin.viewer.server import CONTENT_SECURITY_POLICY, LOOPBACK, LocalServer, OfflineWindow
 
 RECORDED = 10  # movements recorded in the fixture run
 
@@ -540,7 +540,7 @@ def test_mesh_robot_is_drawn_with_its_meshes() -> None:
     """
     if not hasattr(gb_pin.KinematicTarget, "from_example_robot_data"):
         pytest.skip("this gb_pin has no example-robot-data loader")
-    from gb_pin.robot_models import example_robot_data_dir
+    from gb_pin.robot.models import example_robot_data_dir
 
     target = gb_pin.KinematicTarget.from_example_robot_data("ur5", "tool0")
     share = str(example_robot_data_dir().parent.parent)

@@ -1,11 +1,11 @@
-"""Tests of gb_pin.weighting: the example weights of paper Eqs. 4-6."""
+"""Tests of gb_pin.learn.weighting: the example weights of paper Eqs. 4-6."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gb_pin.weighting import direction_weight, efficiency_weight, example_weight
+from gb_pin.learn.weighting import direction_weight, efficiency_weight, example_weight
 
 
 def w_dir(target: np.ndarray, target_prev: np.ndarray, x: np.ndarray, x_prev: np.ndarray) -> float:

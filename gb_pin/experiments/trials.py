@@ -2,7 +2,7 @@
 
 Trial i of a condition uses seed ``seed + i``, so a set of trials gives the same
 numbers whatever runs it: one process, a local process pool, or a Dask cluster
-(:mod:`gb_pin.distributed`). A task carries only the robot's preset name, the
+(:mod:`gb_pin.experiments.distributed`). A task carries only the robot's preset name, the
 parameters, the seed and the movement counts to record, never a model: every
 worker builds its robot from the name.
 """
@@ -21,10 +21,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.api import babble
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
-from gb_pin.metrics import evaluation_schedule, speed
-from gb_pin.robots import get_preset
+from gb_pin.learn.metrics import evaluation_schedule, speed
+from gb_pin.robot.presets import get_preset
+from gb_pin.runs.api import babble
 
 BABBLE_ARGS = ("learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home")
 _JSON_KEYS = ("movements", "error", "home_distance", "initial_error")
@@ -163,7 +163,7 @@ class Condition:
             ``radius``, ``path_length``, ``p_home``); the rest take the preset's defaults.
         movements: movements per trial; None takes the sweep's.
         schedule: movement counts to record (0 is always added); None: the default
-            :func:`~gb_pin.metrics.evaluation_schedule` of the run length.
+            :func:`~gb_pin.learn.metrics.evaluation_schedule` of the run length.
     """
 
     robot: str = "planar5"
@@ -450,7 +450,7 @@ def _execute(
     order = sorted(todo, key=lambda i: -costs[i])
     try:
         if scheduler is not None:
-            from gb_pin.distributed import map_tasks
+            from gb_pin.experiments.distributed import map_tasks
 
             sub = [tasks[i] for i in todo]
 
@@ -529,7 +529,7 @@ def run_sweep(
         workers: local processes; None = all local cores, 1 = in this process.
         scheduler: a Dask scheduler address (``"tcp://host:8786"``) or a
             ``dask.distributed.Client``: run the trials on that cluster instead
-            (see :mod:`gb_pin.distributed`); results are identical to a local run.
+            (see :mod:`gb_pin.experiments.distributed`); results are identical to a local run.
         progress: show a progress bar over all trials (tqdm).
         checkpoint: a :class:`TrialJournal` file: every finished trial is appended to it,
             and trials already in it are not run again (resume an interrupted sweep by
@@ -623,7 +623,7 @@ def run_trials(
         seed: seed of trial 0.
         workers: processes; None = all local cores, 1 = in this process.
         schedule: movement counts to record (0 is always added); default
-            :func:`~gb_pin.metrics.evaluation_schedule`.
+            :func:`~gb_pin.learn.metrics.evaluation_schedule`.
         progress: show a progress bar (tqdm).
         scheduler: a Dask scheduler address or ``dask.distributed.Client`` to run on
             (see :func:`run_sweep`).

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gb_pin.api import babble, warmup
+from gb_pin.runs.api import babble, warmup
 
 
 @dataclass(frozen=True)

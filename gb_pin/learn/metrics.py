@@ -16,30 +16,38 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.chain import chain_position
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.llm import llm_predict
+from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.llm_kernels import llm_predict
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def evaluate_model(  # type: ignore[no-untyped-def]
-    targets, home, lower, upper, chain, rot_ws, pos_ws, P, W, O, K, radius, act, q, x
-):
-    """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n)."""
+def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyped-def]
+    """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10).
+
+    Args:
+        targets: (N, n) evaluation targets [m].
+        limits: :class:`~gb_pin.learn.layout.Limits` (home, lower, upper).
+        body: :class:`~gb_pin.learn.body.chain.Body`, the compiled forward kinematics.
+        lm: :class:`~gb_pin.learn.llm_kernels.MapArrays` of the estimate; K prototypes in use.
+        q: (m,) scratch.
+        x: (n,) scratch.
+    """
+    home, lower, upper = limits
     m = home.shape[0]
     n = targets.shape[1]
     error = 0.0
     distance = 0.0
     for r in range(targets.shape[0]):
         xs = targets[r]
-        llm_predict(xs, P, W, O, K, radius, act, q)
+        llm_predict(xs, lm, K, q)
         d = 0.0
         for i in range(m):
             v = home[i] - q[i]
             d += v * v
             q[i] = min(max(q[i], lower[i]), upper[i])
         distance += math.sqrt(d)
-        chain_position(q, chain, rot_ws, pos_ws, x)
+        body_forward(q, body, x)
         e = 0.0
         for j in range(n):
             v = xs[j] - x[j]

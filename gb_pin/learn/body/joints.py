@@ -1,37 +1,26 @@
-"""Compiled forward kinematics of a kinematic tree, read from a Pinocchio model.
+"""Compiled forward kinematics of the joints: every joint frame in the world for a posture q.
 
-The babbling loop runs hundreds of millions of steps and cannot call Pinocchio per
-step. :class:`KinematicChain` holds what forward kinematics of one frame needs as
-plain arrays (joint parents, joint placements, joint axes and kinds, the frame's
-placement), filled from a ``pin.Model`` by :mod:`gb_pin.target`, so that Pinocchio
-stays the single source of the robot. :func:`chain_position` evaluates it in
-compiled code; it is tested against ``pin.framesForwardKinematics``.
-
-This module imports neither pinocchio nor meshcat: the learner uses it.
+A kinematic tree is held as plain arrays (:class:`Joints`), read from a ``pin.Model`` on
+the robot side (:mod:`gb_pin.robot.chain_reader`), so that the learner can evaluate it
+in compiled code without Pinocchio. Joint i's frame is
+``oMi = oMparent * placement_i * motion_i(q_i)``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from gb_pin.exceptions import InvalidArgumentError
-
 REVOLUTE = 0
 PRISMATIC = 1
 
 
-@dataclass(frozen=True, eq=False)
-class KinematicChain:
-    """Arrays describing the forward kinematics of one frame.
-
-    Joints are numbered 0..m-1 so that every joint's parent comes before it;
-    ``q_index`` maps them to entries of the learner's posture vector q. Joint i's frame is
-    ``oMi = oMparent * placement_i * motion_i(q_i)``.
+class Joints(NamedTuple):
+    """The joints of a kinematic tree as arrays (what :func:`joints_forward` takes).
 
     Attributes:
         parents: (m,) int64, index of the parent joint, -1 for the world.
@@ -40,9 +29,6 @@ class KinematicChain:
         axes: (m, 3) unit joint axis in the joint frame.
         kinds: (m,) int64, ``REVOLUTE`` (q in [rad]) or ``PRISMATIC`` (q in [m]).
         q_index: (m,) int64, which entry of the posture vector q drives each joint.
-        frame_parent: index of the joint carrying the operational frame, -1 for the world.
-        frame_translation: (3,) position of the frame in its parent joint [m].
-        task_axes: (n,) int64, which world coordinates (0=x, 1=y, 2=z) the learner sees.
     """
 
     parents: NDArray[np.int64]
@@ -51,72 +37,15 @@ class KinematicChain:
     axes: NDArray[np.float64]
     kinds: NDArray[np.int64]
     q_index: NDArray[np.int64]
-    frame_parent: int
-    frame_translation: NDArray[np.float64]
-    task_axes: NDArray[np.int64]
-
-    @property
-    def n_joints(self) -> int:
-        """Number of joints m (the posture dimension)."""
-        return int(self.parents.shape[0])
-
-    @property
-    def n_task(self) -> int:
-        """Task dimension n."""
-        return int(self.task_axes.shape[0])
-
-    def as_tuple(self) -> tuple[object, ...]:
-        """The arrays in the order the compiled kernels take them."""
-        return (
-            self.parents,
-            self.rotations,
-            self.translations,
-            self.axes,
-            self.kinds,
-            self.q_index,
-            np.int64(self.frame_parent),
-            self.frame_translation,
-            self.task_axes,
-        )
-
-    def workspace(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Scratch buffers (joint rotations, joint positions) for :func:`chain_position`."""
-        m = self.n_joints
-        return np.empty((m, 3, 3)), np.empty((m, 3))
-
-    def forward(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Task-space position of the frame for one posture ``q`` of shape (m,)."""
-        q = np.ascontiguousarray(q, dtype=np.float64)
-        if q.shape != (self.n_joints,):
-            raise InvalidArgumentError(f"q must have shape ({self.n_joints},), got shape {q.shape}")
-        out = np.empty(self.n_task)
-        rot_ws, pos_ws = self.workspace()
-        chain_position(q, self.as_tuple(), rot_ws, pos_ws, out)
-        return out
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def chain_position(q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
-    """Write the frame's task-space position for posture ``q`` into ``out``.
+def joints_forward(q, joints, rot_ws, pos_ws):  # type: ignore[no-untyped-def]
+    """Each joint's world rotation into ``rot_ws`` (m, 3, 3) and position into ``pos_ws`` (m, 3).
 
-    Args:
-        q: (m,) posture.
-        chain: :meth:`KinematicChain.as_tuple`.
-        rot_ws: (m, 3, 3) scratch, receives each joint's world rotation.
-        pos_ws: (m, 3) scratch, receives each joint's world position.
-        out: (n,) output.
+    Joints are numbered so that every joint's parent comes before it.
     """
-    (
-        parents,
-        rotations,
-        translations,
-        axes,
-        kinds,
-        q_index,
-        frame_parent,
-        frame_translation,
-        task_axes,
-    ) = chain
+    parents, rotations, translations, axes, kinds, q_index = joints
     m = q.shape[0]
     for i in range(m):
         p = parents[i]
@@ -196,17 +125,3 @@ def chain_position(q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-de
         pos_ws[i, 0] = px
         pos_ws[i, 1] = py
         pos_ws[i, 2] = pz
-    f = frame_parent
-    if f >= 0:
-        r = rot_ws[f]
-        for a in range(task_axes.shape[0]):
-            k = task_axes[a]
-            out[a] = (
-                pos_ws[f, k]
-                + r[k, 0] * frame_translation[0]
-                + r[k, 1] * frame_translation[1]
-                + r[k, 2] * frame_translation[2]
-            )
-    else:
-        for a in range(task_axes.shape[0]):
-            out[a] = frame_translation[task_axes[a]]

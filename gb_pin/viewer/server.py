@@ -31,7 +31,7 @@ import tornado.web
 import tornado.websocket
 import umsgpack
 
-from gb_pin.viewer import ViewerError
+from gb_pin.exceptions import ViewerError
 
 with warnings.catch_warnings():
     # meshcat 0.3.2 imports its zmq server, which imports a module pyzmq deprecated.

@@ -1,8 +1,8 @@
 """What the meshcat viewer draws: the robot, targets, reached positions, a trail, the Fig. 3 overlay.
 
 Every drawing becomes meshcat commands sent to a *window* (``send(command)``), so
-the same scene goes to a live browser (:class:`gb_pin.viewer_server.LocalServer`)
-or into a self-contained HTML file (:class:`gb_pin.viewer_server.OfflineWindow`).
+the same scene goes to a live browser (:class:`gb_pin.viewer.server.LocalServer`)
+or into a self-contained HTML file (:class:`gb_pin.viewer.server.OfflineWindow`).
 A robot is drawn by a *figure*: a stick figure of its joints and links (any
 ``pin.Model``; procedural planar chains have no visual geometry) or, where the
 target carries a visual ``pin.GeometryModel``, its meshes loaded by pinocchio's
@@ -23,8 +23,8 @@ import umsgpack
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin.exceptions import GbPinError
-from gb_pin.target import KinematicTarget
-from gb_pin.viewer_server import encode
+from gb_pin.robot.target import KinematicTarget
+from gb_pin.viewer.server import encode
 
 with warnings.catch_warnings():
     # meshcat 0.3.2 imports its zmq server, which imports a module pyzmq deprecated.
@@ -53,7 +53,7 @@ CAMERA_FOV = 75.0
 
 
 class Window(Protocol):
-    """Where commands go: a live server or an offline recorder (see :mod:`gb_pin.viewer_server`)."""
+    """Where commands go: a live server or an offline recorder (see :mod:`gb_pin.viewer.server`)."""
 
     def send(self, command: Any) -> None:
         """Send one meshcat command."""
@@ -405,7 +405,7 @@ def make_figure(target: KinematicTarget, visual_model: Any | None = None) -> Sti
             try:
                 visual_model = loader()
             except GbPinError as exc:
-                from gb_pin.viewer import ViewerWarning
+                from gb_pin.exceptions import ViewerWarning
 
                 warnings.warn(
                     f"{exc}; drawing {target.name!r} as a stick figure", ViewerWarning, stacklevel=3

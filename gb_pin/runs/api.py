@@ -8,74 +8,22 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, fields
+from dataclasses import fields
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.babbling import BabbleConfig, BabbleState, GoalBabbling, History, RecordedSteps, Recording
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
-from gb_pin.llm import LocalLinearMap
-from gb_pin.robots import get_preset, load_robot
-from gb_pin.target import KinematicTarget
-
-
-@dataclass(frozen=True, eq=False)
-class BabbleResult:
-    """What a goal-babbling run learned and measured.
-
-    Attributes:
-        target: the robot (:class:`~gb_pin.target.KinematicTarget`).
-        targets: (N, n) evaluation target set X* [m].
-        history: E^X and D^home over movements.
-        model: the learned local-linear map g.
-        config: hyperparameters used.
-        seed: the integer seed, or None if a Generator was given.
-        robot: the preset name, or None for a custom target.
-        movements: movements run.
-        steps: time steps run.
-        wall_time: seconds spent babbling (compilation excluded after the first call).
-        recording: the recorded steps, if ``record`` was given.
-    """
-
-    target: KinematicTarget
-    targets: NDArray[np.float64]
-    history: History
-    model: LocalLinearMap
-    config: BabbleConfig
-    seed: int | None
-    robot: str | None
-    movements: int
-    steps: int
-    wall_time: float
-    recording: RecordedSteps | None = None
-
-    def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
-        """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
-        return self.model.predict(X)
-
-    @property
-    def error(self) -> float:
-        """Final E^X [m]."""
-        return float(self.history.error[-1])
-
-    @property
-    def home_distance(self) -> float:
-        """Final D^home [rad]."""
-        return float(self.history.home_distance[-1])
-
-    @property
-    def n_prototypes(self) -> int:
-        """Number of local linear models K."""
-        return self.model.n_prototypes_
-
-    def save(self, path: str) -> None:
-        """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
-        from gb_pin.io import save_result
-
-        save_result(self, path)
+from gb_pin.learn.config import BY_NAME, NAMES
+from gb_pin.learn.goals import GoalGenerator
+from gb_pin.learn.history import Recording
+from gb_pin.learn.learner import GoalBabbling
+from gb_pin.learn.state import BabbleState
+from gb_pin.robot.presets import get_preset, load_robot
+from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.result import BabbleResult
 
 
 def warmup() -> float:
@@ -105,6 +53,7 @@ def babble(
     observe_every: int = 10,
     checkpoint: str | os.PathLike[str] | None = None,
     checkpoint_every: int | None = None,
+    goals: str | GoalGenerator | None = None,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -114,7 +63,7 @@ def babble(
 
     Args:
         robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``) or a
-            :class:`~gb_pin.target.KinematicTarget`.
+            :class:`~gb_pin.robot.target.KinematicTarget`.
         movements: number of movements (home returns included).
         seed: an int seed or a numpy Generator; same seed, same result.
         learning_rate: eta.
@@ -139,6 +88,9 @@ def babble(
             a stopped run with :func:`resume`. Ctrl-C then writes a final
             checkpoint before ``KeyboardInterrupt`` propagates.
         checkpoint_every: movements between checkpoints (default: a tenth of the run).
+        goals: who chooses each movement's goal: a
+            :class:`~gb_pin.learn.goals.GoalGenerator` or its name; default the paper's
+            uniform choice over ``targets`` (``"uniform"``).
 
     Returns:
         A :class:`BabbleResult`.
@@ -148,35 +100,16 @@ def babble(
         InvalidArgumentError: any other bad argument.
         DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
-    defaults: dict[str, Any] = {}
-    if isinstance(robot, KinematicTarget):
-        target = robot
-        name = None
-    elif isinstance(robot, str):
-        preset, _ = get_preset(robot)
-        defaults = dict(preset.learner)
-        target = load_robot(robot)
-        name = robot
-    else:
-        raise InvalidArgumentError(f"robot must be a preset name or a KinematicTarget, got {robot!r}")
+    target, name, defaults = _robot(robot)
     movements = check.positive_int("movements", movements)
     if targets is None:
         # A target without its own set learns the "auto" grid (reachable, around home, seeded).
         X = target.targets if target.targets is not None else target.auto_targets()
     else:
         X = target.check_targets(targets)  # shape checks; warns about targets beyond reach
-
-    def pick(name: str, value: Any, fallback: Any) -> Any:
-        return value if value is not None else defaults.get(name, fallback)
-
-    learner = GoalBabbling(
-        learning_rate=pick("learning_rate", learning_rate, 0.1),
-        sigma=pick("sigma", sigma, None),
-        sigma_delta=pick("sigma_delta", sigma_delta, None),
-        radius=pick("radius", radius, 0.1),
-        path_length=pick("path_length", path_length, 25),
-        p_home=pick("p_home", p_home, 0.1),
-    )
+    given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
+             "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
+    learner = _learner(defaults, given)
     rng = check.generator(seed)
     int_seed = None if isinstance(seed, np.random.Generator) else int(seed)
     if checkpoint_every is not None:
@@ -192,6 +125,7 @@ def babble(
             eval_targets=eval_targets,
             schedule=schedule,
             record=record,
+            goals=goals,
             callback=callback,
             observer=observer,
             observe_every=observe_every,
@@ -200,6 +134,25 @@ def babble(
             should_stop=interrupted,
         )
     return runner.result(learner, interrupted())
+
+
+def _robot(robot: Any) -> tuple[KinematicTarget, str | None, dict[str, Any]]:
+    """(target, preset name or None, the preset's learner defaults)."""
+    if isinstance(robot, KinematicTarget):
+        return robot, None, {}
+    if isinstance(robot, str):
+        preset, _ = get_preset(robot)
+        return load_robot(robot), robot, dict(preset.learner)
+    raise InvalidArgumentError(f"robot must be a preset name or a KinematicTarget, got {robot!r}")
+
+
+def _learner(defaults: dict[str, Any], given: dict[str, Any]) -> GoalBabbling:
+    """The learner: values given, else the preset's, else the table's defaults (gb_pin.learn.config)."""
+    params = {}
+    for name in NAMES:
+        value = given.get(name)
+        params[name] = value if value is not None else defaults.get(name, BY_NAME[name].default)
+    return GoalBabbling(**params)
 
 
 def resume(
@@ -225,7 +178,7 @@ def resume(
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one written for another robot.
     """
-    from gb_pin.checkpoint import read_checkpoint
+    from gb_pin.runs.checkpoint import read_checkpoint
 
     state, info = read_checkpoint(checkpoint)
     if robot is None:
@@ -313,7 +266,7 @@ class _Runner:
         return self.wall_before + time.perf_counter() - self.start
 
     def write(self, state: BabbleState) -> None:
-        from gb_pin.checkpoint import CheckpointInfo, write_checkpoint
+        from gb_pin.runs.checkpoint import CheckpointInfo, write_checkpoint
 
         assert self.path is not None
         info = CheckpointInfo(

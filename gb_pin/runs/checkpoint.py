@@ -13,11 +13,11 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-import numpy as np
-
-from gb_pin._archive import atomic_savez, read_archive
-from gb_pin.babbling import BabbleConfig, BabbleState
 from gb_pin.exceptions import GbPinError, ResultFileError
+from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.goals import make_goals
+from gb_pin.learn.state import BabbleState
+from gb_pin.runs.archive import atomic_savez, read_archive
 
 FORMAT = "gb_pin.checkpoint"
 FORMAT_VERSION = 1
@@ -56,6 +56,7 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
         "config": info.config.as_dict(),
         "wall_time": info.wall_time,
         "rng": state.rng_state(),
+        "goals": {"name": state.goals.name, "params": state.goals.get_params()},
     }
     atomic_savez(os.fspath(path), dict(state.to_arrays()), meta)
 
@@ -78,11 +79,13 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             config=config,
             wall_time=float(meta["wall_time"]),
         )
-        state = BabbleState.from_arrays(arrays, config, meta["rng"])
+        goals = meta.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
+        if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
+            raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
+        generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
+        state = BabbleState.from_arrays(arrays, config, meta["rng"], goals=generator)
     except GbPinError as exc:
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted checkpoint ({exc!r})") from exc
-    if not all(np.all(np.isfinite(state.to_arrays()[k])) for k in ("prototypes", "matrices", "offsets")):
-        raise ResultFileError(f"{path}: the model in this checkpoint is not finite")
     return state, info

@@ -14,15 +14,15 @@ import numpy as np
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 if TYPE_CHECKING:
-    from gb_pin.babbling import Recording
+    from gb_pin.learn.history import Recording
     from gb_pin.viewer import Viewer
 
 
 def _babble(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from gb_pin.api import babble, resume, warmup
-    from gb_pin.checkpoint import read_checkpoint
+    from gb_pin.runs.api import babble, resume, warmup
+    from gb_pin.runs.checkpoint import read_checkpoint
 
     if args.resume:
         # The robot and the run's length come from the checkpoint.
@@ -49,7 +49,7 @@ def _babble(args: argparse.Namespace) -> int:
         bar.update(r - done)
         done = r
 
-    from gb_pin.robots import get_preset
+    from gb_pin.robot.presets import get_preset
 
     get_preset(args.robot)  # an unknown robot is reported before the kernels compile
     record = _recording(args)
@@ -109,7 +109,7 @@ def _recording(args: argparse.Namespace) -> Recording | None:
     """The Recording asked for by --record-every / --record-movements, or None."""
     if args.record_every is None and args.record_movements is None:
         return None
-    from gb_pin.babbling import Recording
+    from gb_pin.learn.history import Recording
     from gb_pin.viewer import parse_range
 
     first, last = parse_range(args.record_movements or "0:", "--record-movements")
@@ -171,7 +171,7 @@ def _show(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from gb_pin.bench import format_table, run_benchmark
+    from gb_pin.experiments.bench import format_table, run_benchmark
 
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     rows = run_benchmark(robots, movements=args.movements, repeat=args.repeat)
@@ -180,7 +180,7 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _trials(args: argparse.Namespace) -> int:
-    from gb_pin.trials import run_trials
+    from gb_pin.experiments.trials import run_trials
 
     babble_args = {k: getattr(args, k) for k in _LEARNER_OPTIONS if getattr(args, k) is not None}
     start = time.perf_counter()
@@ -232,7 +232,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 def _robots(args: argparse.Namespace) -> int:
     if args.benchmark:
-        from gb_pin.robot_bench import run
+        from gb_pin.experiments.robot_bench import run
 
         names = [r.strip() for r in args.robots.split(",") if r.strip()] if args.robots else None
         run(
@@ -248,7 +248,7 @@ def _robots(args: argparse.Namespace) -> int:
             command="gb-pin robots --benchmark" + (f" --trials {args.trials}" if args.trials != 10 else ""),
         )
         return 0
-    from gb_pin.robots import format_presets
+    from gb_pin.robot.presets import format_presets
 
     print(format_presets())
     return 0

@@ -18,7 +18,7 @@ reachable through a narrow region that no sample came near can be missed. The
 centred on the home effector position whose points all pass this check.
 
 This module imports neither pinocchio nor meshcat: it works on the
-:class:`~gb_pin.chain.KinematicChain` of any robot.
+:class:`~gb_pin.learn.body.chain.KinematicChain` of any robot.
 """
 
 from __future__ import annotations
@@ -33,11 +33,12 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.chain import PRISMATIC, KinematicChain, chain_position
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn.body.chain import PRISMATIC, KinematicChain, body_forward
+from gb_pin.robot.grids import grid_shape, grid_targets, regular_grid
 
 if TYPE_CHECKING:
-    from gb_pin.target import KinematicTarget
+    from gb_pin.robot.target import KinematicTarget
 
 SAMPLES = 20000  # postures sampled per check (about 5 ms of forward kinematics for 7 joints)
 STARTS = 8  # descents started from the sampled postures closest to each point
@@ -77,10 +78,10 @@ class Reachability:
 
 
 @njit(cache=True, nogil=True)
-def _positions(Q, chain, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
+def _positions(Q, body, out):  # type: ignore[no-untyped-def]
     """Frame positions of every posture row of Q (N, m) into out (N, n)."""
     for r in range(Q.shape[0]):
-        chain_position(Q[r], chain, rot_ws, pos_ws, out[r])
+        body_forward(Q[r], body, out[r])
 
 
 @njit(cache=True, nogil=True)
@@ -111,8 +112,12 @@ def _solve_small(A, b, x):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True)
-def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance):  # type: ignore[no-untyped-def]
-    """Projected Levenberg-Marquardt on ||target - f(q)|| from q (modified in place); returns the residual."""
+def _descend(target, q, bounds, body, iterations, tolerance):  # type: ignore[no-untyped-def]
+    """Projected Levenberg-Marquardt on ||target - f(q)|| from q (modified in place); returns the residual.
+
+    ``bounds`` is (lower, upper), the joint limits (m,) each.
+    """
+    lower, upper = bounds
     m = q.shape[0]
     n = target.shape[0]
     x = np.empty(n)
@@ -123,7 +128,7 @@ def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, toleran
     y = np.empty(n)
     trial = np.empty(m)
     xt = np.empty(n)
-    chain_position(q, chain, rot_ws, pos_ws, x)
+    body_forward(q, body, x)
     err = 0.0
     for j in range(n):
         e[j] = target[j] - x[j]
@@ -136,7 +141,7 @@ def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, toleran
         for i in range(m):
             keep = q[i]
             q[i] = keep + 1e-7
-            chain_position(q, chain, rot_ws, pos_ws, xp)
+            body_forward(q, body, xp)
             q[i] = keep
             for j in range(n):
                 J[j, i] = (xp[j] - x[j]) / 1e-7
@@ -155,7 +160,7 @@ def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, toleran
                 for j in range(n):
                     s += J[j, i] * y[j]
                 trial[i] = min(max(q[i] + s, lower[i]), upper[i])
-            chain_position(trial, chain, rot_ws, pos_ws, xt)
+            body_forward(trial, body, xt)
             new = 0.0
             for j in range(n):
                 d = target[j] - xt[j]
@@ -178,16 +183,16 @@ def _descend(target, q, lower, upper, chain, rot_ws, pos_ws, iterations, toleran
 
 
 @njit(cache=True, nogil=True)
-def _reach_all(points, starts, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance, best_q, residual):  # type: ignore[no-untyped-def]
+def _reach_all(points, starts, bounds, body, iterations, tolerance, best_q, residual):  # type: ignore[no-untyped-def]
     """For each point, descend from its start postures (points, S, m); keep the best posture and residual."""
-    m = lower.shape[0]
+    m = bounds[0].shape[0]
     q = np.empty(m)
     for p in range(points.shape[0]):
         residual[p] = np.inf
         for s in range(starts.shape[1]):
             for i in range(m):
                 q[i] = starts[p, s, i]
-            err = _descend(points[p], q, lower, upper, chain, rot_ws, pos_ws, iterations, tolerance)
+            err = _descend(points[p], q, bounds, body, iterations, tolerance)
             if err < residual[p]:
                 residual[p] = err
                 for i in range(m):
@@ -216,8 +221,7 @@ def sample_positions(
     lo, hi = sampling_bounds(robot)
     Q = lo + (hi - lo) * rng.random((samples, lo.shape[0]))
     X = np.empty((samples, robot.chain.n_task))
-    rot_ws, pos_ws = robot.chain.workspace()
-    _positions(Q, robot.chain.as_tuple(), rot_ws, pos_ws, X)
+    _positions(Q, robot.chain.kernel(), X)
     return Q, X
 
 
@@ -233,7 +237,7 @@ def check_reachable(
     """Which points a posture within the joint limits reaches (see the module docstring).
 
     Args:
-        robot: a :class:`~gb_pin.target.KinematicTarget` (chain, home, lower, upper).
+        robot: a :class:`~gb_pin.robot.target.KinematicTarget` (chain, home, lower, upper).
         points: (N, n) points on the robot's task axes [m].
         seed: seed of the posture sampling; same seed, same answer.
         samples: postures sampled.
@@ -258,66 +262,8 @@ def check_reachable(
     starts[:, 1:] = Q[nearest]
     best = np.empty((X.shape[0], Q.shape[1]))
     residual = np.empty(X.shape[0])
-    rot_ws, pos_ws = chain.workspace()
-    _reach_all(
-        X, starts, lower, upper, chain.as_tuple(), rot_ws, pos_ws, ITERATIONS, tolerance, best, residual
-    )
+    _reach_all(X, starts, (lower, upper), chain.kernel(), ITERATIONS, tolerance, best, residual)
     return Reachability(reachable=residual < tolerance, postures=best, residual=residual)
-
-
-def grid_shape(shape: Sequence[int] | None, n_task: int) -> tuple[int, ...]:
-    """A grid shape for ``n_task`` axes: ``None`` gives 3 points per axis."""
-    if shape is None:
-        return (3,) * n_task
-    try:
-        counts = tuple(int(c) for c in shape)
-    except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(f"grid shape must be {n_task} point counts, got {shape!r}") from exc
-    if (
-        len(counts) != n_task
-        or min(counts) < 1
-        or any(isinstance(c, bool) or c != k for c, k in zip(shape, counts, strict=True))
-    ):
-        raise InvalidArgumentError(f"grid shape must be {n_task} point counts >= 1, got {shape!r}")
-    return counts
-
-
-def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
-    """A regular grid over the box ``[lower, upper]``, the first axis varying slowest, as (N, n) [m].
-
-    An axis with one point sits mid-way between its bounds.
-    """
-    try:
-        lo = np.asarray(lower, dtype=float)
-        hi = np.asarray(upper, dtype=float)
-        counts = [int(c) for c in shape]
-    except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(
-            f"a target grid needs numeric lower, upper and shape, got {lower!r}, {upper!r}, {shape!r}"
-        ) from exc
-    if not (lo.shape == hi.shape == (len(counts),)) or not counts or min(counts) < 1:
-        raise InvalidArgumentError(
-            f"a target grid needs lower, upper and shape of one length, got {lower!r}, {upper!r}, {shape!r}"
-        )
-    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
-        raise InvalidArgumentError(f"a target grid needs finite lower <= upper, got {lower!r}, {upper!r}")
-    axes = [
-        np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2])
-        for a, b, c in zip(lo, hi, counts, strict=True)
-    ]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
-
-
-def regular_grid(center: ArrayLike, half_width: float, shape: Sequence[int]) -> NDArray[np.float64]:
-    """Grid of ``shape`` points over the cube ``center +- half_width``, the first axis slowest [m]."""
-    c = np.asarray(center, dtype=float)
-    axes = [
-        np.linspace(v - half_width, v + half_width, k) if k > 1 else np.array([v])
-        for v, k in zip(c, shape, strict=True)
-    ]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return np.ascontiguousarray(np.stack([g.ravel() for g in mesh], axis=1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -365,7 +311,7 @@ def auto_grid(
     border.
 
     Args:
-        robot: a :class:`~gb_pin.target.KinematicTarget`.
+        robot: a :class:`~gb_pin.robot.target.KinematicTarget`.
         shape: points per task axis; default 3 per axis (27 points in 3-D).
         seed: seed of the posture sampling.
         samples: postures sampled.
@@ -465,7 +411,7 @@ def resolve_targets(spec: Any, robot: KinematicTarget, what: str = "targets") ->
             ``{"lower": [...], "upper": [...], "shape": [...]}``, explicit points
             ``{"points": [[...], ...]}``, or ``{"auto": True}`` with optional
             ``shape`` (points per axis), ``scale`` and ``seed`` (see :func:`auto_grid`).
-        robot: the :class:`~gb_pin.target.KinematicTarget` the targets are for.
+        robot: the :class:`~gb_pin.robot.target.KinematicTarget` the targets are for.
         what: the argument's name in messages.
 
     Returns:

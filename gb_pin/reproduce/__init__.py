@@ -34,11 +34,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin import _validation as check
-from gb_pin.api import babble
-from gb_pin.chain import chain_position
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, ResultFileError
-from gb_pin.metrics import evaluation_schedule
-from gb_pin.trials import Condition, TrialSet, run_sweep, run_trials
+from gb_pin.experiments.trials import Condition, TrialSet, run_sweep, run_trials
+from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.metrics import evaluation_schedule
+from gb_pin.runs.api import babble
 
 FIGURES = ("fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "throughput")
 QUANTILES = (0.1, 0.25, 0.5, 0.75, 0.9)
@@ -451,11 +451,12 @@ def arm_points(chain: Any, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Positions of every joint and of the effector on the task axes, (m + 1, n) [m].
 
     Computed by the compiled forward kinematics read from the Pinocchio model
-    (:class:`~gb_pin.chain.KinematicChain`): its workspace holds each joint's world position.
+    (:class:`~gb_pin.learn.body.chain.KinematicChain`): its workspace holds each joint's world position.
     """
-    rot_ws, pos_ws = chain.workspace()
+    body = chain.kernel()
     tip = np.empty(chain.n_task)
-    chain_position(np.ascontiguousarray(q, dtype=float), chain.as_tuple(), rot_ws, pos_ws, tip)
+    body_forward(np.ascontiguousarray(q, dtype=float), body, tip)
+    pos_ws = body.pos_ws
     return np.vstack([pos_ws[:, chain.task_axes], tip])
 
 

@@ -1,7 +1,7 @@
 """Meshcat viewer: watch babbling live, replay recorded runs, share them as one offline HTML file.
 
-The only part of gb_pin that imports meshcat (with :mod:`gb_pin.viewer_server`, the
-loopback-only server, and :mod:`gb_pin.viewer_scene`, the drawing). It imports
+The only part of gb_pin that imports meshcat (with :mod:`gb_pin.viewer.server`, the
+loopback-only server, and :mod:`gb_pin.viewer.scene`, the drawing). It imports
 them lazily, so ``import gb_pin.viewer`` works without meshcat and a missing
 meshcat is reported as a :class:`ViewerError` naming the extra to install.
 
@@ -29,25 +29,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import GbPinError, InvalidArgumentError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError, ViewerError, ViewerWarning
 
 if TYPE_CHECKING:
-    from gb_pin.api import BabbleResult
-    from gb_pin.babbling import BabbleState, RecordedSteps
-    from gb_pin.target import KinematicTarget
-    from gb_pin.viewer_scene import Scene, Window
-    from gb_pin.viewer_server import LocalServer
+    from gb_pin.learn.history import RecordedSteps
+    from gb_pin.learn.state import BabbleState
+    from gb_pin.robot.target import KinematicTarget
+    from gb_pin.runs.api import BabbleResult
+    from gb_pin.viewer.scene import Scene, Window
+    from gb_pin.viewer.server import LocalServer
 
 INSTALL_HINT = "install the viewer with: pip install 'gb_pin[viz]'"
 OVERLAY_PATH = "/meshcat/gb_pin/overlay"
-
-
-class ViewerError(GbPinError):
-    """The viewer cannot start (meshcat missing, port taken, ...) or was asked for something impossible."""
-
-
-class ViewerWarning(UserWarning):
-    """A viewer could not start; the run goes on without it."""
 
 
 def _require_meshcat() -> None:
@@ -131,7 +124,7 @@ class Viewer:
         self.overlay_period = check.positive_float("overlay_period", overlay_period)
         self.visual_model = visual_model
         _require_meshcat()
-        from gb_pin.viewer_server import LocalServer
+        from gb_pin.viewer.server import LocalServer
 
         try:
             self.server: LocalServer = LocalServer(port)
@@ -155,7 +148,7 @@ class Viewer:
     # -- babble() hooks -------------------------------------------------------------------------
     def start(self, target: KinematicTarget, targets: ArrayLike) -> None:
         """Draw the robot at home, the target set and the markers (called by :func:`gb_pin.babble`)."""
-        from gb_pin.viewer_scene import Scene
+        from gb_pin.viewer.scene import Scene
 
         self.scene = Scene(self.server, target, targets, trail=self.trail, visual_model=self.visual_model)
         self.scene.draw_static()
@@ -204,7 +197,7 @@ class Viewer:
         scene = self._scene()
         postures = result.inverse(scene.targets)
         scene.overlay(postures, few=few)
-        from gb_pin.viewer_scene import spread_indices
+        from gb_pin.viewer.scene import spread_indices
 
         centre = spread_indices(scene.targets, 1)[0]
         scene.pose(postures[centre], scene.targets[centre], None)
@@ -264,7 +257,7 @@ def select_movements(recording: RecordedSteps, movements: tuple[int, int | None]
     Raises:
         InvalidArgumentError: no recorded step falls in the range.
     """
-    from gb_pin.babbling import RecordedSteps
+    from gb_pin.learn.history import RecordedSteps
 
     if movements is None:
         keep = np.ones(recording.step.shape[0], dtype=bool)
@@ -324,7 +317,7 @@ def replay_window(
     visual_model: Any | None = None,
 ) -> Scene:
     """Draw a recorded run into ``window`` as a looping animation; returns the scene."""
-    from gb_pin.viewer_scene import Scene
+    from gb_pin.viewer.scene import Scene
 
     recording = select_movements(_recording_of(result), movements)
     scene = Scene(window, result.target, result.targets, trail=trail, visual_model=visual_model)
@@ -373,7 +366,7 @@ def export_replay(
         ViewerError: meshcat is missing.
     """
     _require_meshcat()
-    from gb_pin.viewer_server import OfflineWindow
+    from gb_pin.viewer.server import OfflineWindow
 
     window = OfflineWindow()
     replay_window(window, result, movements, speed, visual_model=visual_model)
@@ -390,8 +383,8 @@ def export_model(
         ViewerError: meshcat is missing.
     """
     _require_meshcat()
-    from gb_pin.viewer_scene import Scene, spread_indices
-    from gb_pin.viewer_server import OfflineWindow
+    from gb_pin.viewer.scene import Scene, spread_indices
+    from gb_pin.viewer.server import OfflineWindow
 
     window = OfflineWindow()
     scene = Scene(window, result.target, result.targets, trail=0, visual_model=visual_model)

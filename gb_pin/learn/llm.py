@@ -1,151 +1,22 @@
-"""Local-linear map (paper Sec. II-C): the inverse estimate g(x) and its online learning.
+"""Local-linear map (paper Sec. II-C) with scikit-learn conventions: the inverse estimate g.
 
     g(x) = sum_k beta_k(x) (W_k u_k + o_k),   u_k = (x - p_k) / d,
     beta_k(x) = b(u_k) / sum_j b(u_j),         b(u) = exp(-||u||^2).
 
-Conventions (the paper is silent; these reproduce its numbers):
-
-* W_k acts on the scaled input u_k, so a new prototype gets W = d * dg/dx.
-* The gradient of w ||q - g(x)||^2 is taken with its factor 2 folded into the
-  learning rate: o_k += eta w beta_k (q - g(x)) and W_k += eta w beta_k (q - g(x)) u_k^T.
-* Responsibilities are computed as exp(-(||u_k||^2 - min_j ||u_j||^2)) before
-  normalising, which is the same soft-max but never underflows far from all prototypes.
-
-The compiled kernels work on preallocated arrays (prototypes P (K, n), matrices
-W (K, m, n), offsets O (K, m)) and scratch buffers: no allocation per step.
-:class:`LocalLinearMap` wraps them with a scikit-learn style interface.
+The compiled kernels and the conventions where the paper is silent are in
+:mod:`gb_pin.learn.llm_kernels`; this class owns the preallocated storage.
 """
 
 from __future__ import annotations
 
-import math
+from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, NotFittedError
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def llm_predict(x, P, W, O, K, radius, act, out):  # type: ignore[no-untyped-def]
-    """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
-
-    ``act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)).
-    """
-    n = x.shape[0]
-    m = out.shape[0]
-    inv = 1.0 / radius
-    smallest = np.inf
-    for k in range(K):
-        s = 0.0
-        for j in range(n):
-            u = (x[j] - P[k, j]) * inv
-            s += u * u
-        act[k] = s
-        if s < smallest:
-            smallest = s
-    total = 0.0
-    for i in range(m):
-        out[i] = 0.0
-    for k in range(K):
-        a = math.exp(smallest - act[k])
-        act[k] = a
-        total += a
-        for i in range(m):
-            y = O[k, i]
-            for j in range(n):
-                y += W[k, i, j] * ((x[j] - P[k, j]) * inv)
-            out[i] += a * y
-    for i in range(m):
-        out[i] /= total
-    return total, smallest
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def llm_jacobian(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
-    """dg/dx into ``J`` (m, n) and g(x) into ``g`` (m,), responsibilities' derivative included.
-
-    With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
-    J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
-    """
-    n = x.shape[0]
-    m = g.shape[0]
-    inv = 1.0 / radius
-    total, _ = llm_predict(x, P, W, O, K, radius, act, g)
-    for i in range(m):
-        for j in range(n):
-            J[i, j] = 0.0
-    for k in range(K):
-        beta = act[k] / total
-        for i in range(m):
-            yi = O[k, i]
-            for j in range(n):
-                yi += W[k, i, j] * ((x[j] - P[k, j]) * inv)
-            y[i] = yi
-        for i in range(m):
-            r = 2.0 * (y[i] - g[i])
-            for j in range(n):
-                J[i, j] += beta * (W[k, i, j] - r * ((x[j] - P[k, j]) * inv))
-    for i in range(m):
-        for j in range(n):
-            J[i, j] *= inv
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def llm_insert(x, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
-    """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
-
-    The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
-    """
-    llm_jacobian(x, P, W, O, K, radius, act, g, y, J)
-    n = x.shape[0]
-    m = g.shape[0]
-    for j in range(n):
-        P[K, j] = x[j]
-    for i in range(m):
-        O[K, i] = g[i]
-        for j in range(n):
-            W[K, i, j] = radius * J[i, j]
-    return K + 1
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def llm_learn(x, q, w, eta, P, W, O, K, radius, act, g, y, J):  # type: ignore[no-untyped-def]
-    """One online step on the example (x, q) with weight w; returns the new prototype count.
-
-    Inserts a prototype first if ``x`` is at distance >= d from all prototypes,
-    then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
-    o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
-    """
-    n = x.shape[0]
-    m = q.shape[0]
-    inv = 1.0 / radius
-    total, smallest = llm_predict(x, P, W, O, K, radius, act, g)
-    if smallest >= 1.0:
-        K = llm_insert(x, P, W, O, K, radius, act, g, y, J)
-        total, smallest = llm_predict(x, P, W, O, K, radius, act, g)
-    if w == 0.0:
-        return K
-    for i in range(m):
-        y[i] = q[i] - g[i]  # the error e, kept in y
-    scale = eta * w / total
-    for k in range(K):
-        c = scale * act[k]
-        for i in range(m):
-            ce = c * y[i]
-            O[k, i] += ce
-            for j in range(n):
-                W[k, i, j] += ce * ((x[j] - P[k, j]) * inv)
-    return K
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def llm_predict_many(X, P, W, O, K, radius, act, out):  # type: ignore[no-untyped-def]
-    """g(x) for every row of X (N, n) into out (N, m)."""
-    for r in range(X.shape[0]):
-        llm_predict(X[r], P, W, O, K, radius, act, out[r])
+from gb_pin.learn.llm_kernels import MapArrays, llm_jacobian, llm_learn, llm_predict_many
 
 
 class LocalLinearMap:
@@ -162,9 +33,15 @@ class LocalLinearMap:
         n_prototypes_: K.
     """
 
+    ARRAY_NAMES = ("prototypes", "matrices", "offsets")
+
     def __init__(self, radius: float = 0.1, learning_rate: float = 0.1) -> None:
         self.radius = radius
         self.learning_rate = learning_rate
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The hyperparameters (scikit-learn convention)."""
+        return {"radius": self.radius, "learning_rate": self.learning_rate}
 
     # -- initialisation and storage -------------------------------------------
     def initialize(self, x0: ArrayLike, q0: ArrayLike, capacity: int = 256) -> LocalLinearMap:
@@ -210,6 +87,65 @@ class LocalLinearMap:
             grown[: self._K] = old[: self._K]
             setattr(self, name, grown)
         self._allocate_scratch()
+
+    def kernel(self) -> MapArrays:
+        """The storage and scratch buffers as the compiled kernels take them."""
+        self._check_fitted()
+        return MapArrays(self._P, self._W, self._O, self._radius, self._act, self._g, self._y, self._J)
+
+    @property
+    def capacity(self) -> int:
+        """Prototypes the storage holds before it must grow."""
+        self._check_fitted()
+        return int(self._P.shape[0])
+
+    def set_count(self, K: int) -> None:
+        """Record that the compiled kernels now use ``K`` prototypes of the storage."""
+        if not 1 <= K <= self._P.shape[0]:
+            raise InvalidArgumentError(f"prototype count {K} outside 1..{self._P.shape[0]}")
+        self._K = int(K)
+
+    def to_arrays(self) -> dict[str, NDArray[np.float64]]:
+        """The learned map as ``prototypes`` (K, n), ``matrices`` (K, m, n), ``offsets`` (K, m)."""
+        return {"prototypes": self.prototypes_, "matrices": self.matrices_, "offsets": self.offsets_}
+
+    @classmethod
+    def from_arrays(
+        cls,
+        arrays: dict[str, Any],
+        radius: float,
+        learning_rate: float = 0.1,
+        capacity: int | None = None,
+    ) -> LocalLinearMap:
+        """The map stored by :meth:`to_arrays`, exactly (same numbers, same predictions).
+
+        Args:
+            arrays: ``prototypes``, ``matrices`` and ``offsets``.
+            radius: d [m].
+            learning_rate: eta for further :meth:`partial_fit` calls.
+            capacity: storage to preallocate (default: the prototypes' count).
+
+        Raises:
+            InvalidArgumentError: missing, non-finite or inconsistent arrays.
+        """
+        try:
+            P, W, O = (np.asarray(arrays[k]) for k in cls.ARRAY_NAMES)
+        except KeyError as exc:
+            raise InvalidArgumentError(f"local-linear map incomplete (missing {exc})") from exc
+        if not all(a.dtype.kind in "fiu" for a in (P, W, O)):
+            raise InvalidArgumentError(f"model arrays of dtypes {P.dtype}, {W.dtype}, {O.dtype}, not real")
+        K = P.shape[0] if P.ndim == 2 else 0
+        n = P.shape[1] if P.ndim == 2 else 0
+        m = O.shape[1] if O.ndim == 2 else 0
+        if K < 1 or n < 1 or m < 1 or W.shape != (K, m, n) or O.shape != (K, m):
+            raise InvalidArgumentError(f"model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}")
+        if not all(np.all(np.isfinite(a)) for a in (P, W, O)):
+            raise InvalidArgumentError("model arrays are not finite")
+        lm = cls(radius=radius, learning_rate=learning_rate)
+        lm.initialize(P[0], O[0], capacity=max(K, capacity or K))
+        lm._P[:K], lm._W[:K], lm._O[:K] = P, W, O
+        lm._K = K
+        return lm
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "_K"):
@@ -258,7 +194,7 @@ class LocalLinearMap:
         pts = check.points("X", X, self.n_inputs_, allow_single=True)
         single = np.ndim(X) == 1
         out = np.empty((pts.shape[0], self.n_outputs_))
-        llm_predict_many(pts, self._P, self._W, self._O, self._K, self._radius, self._act, out)
+        llm_predict_many(pts, self.kernel(), self._K, out)
         bad = np.flatnonzero(~np.all(np.isfinite(out), axis=1))
         if bad.size:
             raise InvalidArgumentError(
@@ -271,10 +207,8 @@ class LocalLinearMap:
         """dg/dx at one input (n,) -> (m, n), derivative of the responsibilities included."""
         self._check_fitted()
         xv = check.vector("x", x, self.n_inputs_)
-        J = np.empty((self.n_outputs_, self.n_inputs_))
-        g = np.empty(self.n_outputs_)
-        llm_jacobian(xv, self._P, self._W, self._O, self._K, self._radius, self._act, g, self._y, J)
-        return J
+        llm_jacobian(xv, self.kernel(), self._K)
+        return self._J.copy()
 
     def partial_fit(
         self, X: ArrayLike, y: ArrayLike, sample_weight: ArrayLike | None = None
@@ -299,8 +233,5 @@ class LocalLinearMap:
             )
         for r in range(pts.shape[0]):
             self.reserve(self._K + 1)
-            self._K = llm_learn(
-                pts[r], Q[r], float(w[r]), eta, self._P, self._W, self._O, self._K,
-                self._radius, self._act, self._g, self._y, self._J,
-            )  # fmt: skip
+            self._K = llm_learn(pts[r], Q[r], float(w[r]), eta, self.kernel(), self._K)
         return self

@@ -3,35 +3,26 @@
 from __future__ import annotations
 
 import json
-import os
 import zipfile
 import zlib
 from typing import Any
 
 import numpy as np
 
+from gb_pin._files import atomic_write
 from gb_pin.exceptions import ResultFileError
 
 
 def atomic_savez(path: str, arrays: dict[str, Any], meta: dict[str, Any], compress: bool = False) -> None:
-    """Write ``arrays`` and a JSON header ``meta`` to ``path``: temporary file, fsync, rename.
+    """Write ``arrays`` and a JSON header ``meta`` to ``path`` atomically (:func:`gb_pin._files.atomic_write`).
 
     A crash at any moment leaves either the previous file or the new one, never half a file.
     """
     from gb_pin import __version__
 
     header = {**meta, "gb_pin_version": __version__}
-    directory = os.path.dirname(os.path.abspath(path))
-    tmp = os.path.join(directory, f".{os.path.basename(path)}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as fh:
-            (np.savez_compressed if compress else np.savez)(fh, meta=np.array(json.dumps(header)), **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with atomic_write(path) as fh:
+        (np.savez_compressed if compress else np.savez)(fh, meta=np.array(json.dumps(header)), **arrays)
 
 
 def read_archive(

@@ -27,10 +27,10 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.chain import PRISMATIC, REVOLUTE, KinematicChain
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError, UnreachableTargetWarning
-from gb_pin.robot_models import build_visual_model, load_example_robot, load_urdf_model
-from gb_pin.targets_auto import auto_grid, beyond_reach, resolve_targets
+from gb_pin.learn.body.chain import PRISMATIC, REVOLUTE, KinematicChain
+from gb_pin.robot.models import build_visual_model, load_example_robot, load_urdf_model
+from gb_pin.robot.targets_auto import auto_grid, beyond_reach, resolve_targets
 
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 _UNIT = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
@@ -84,7 +84,7 @@ def _joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float],
 
 TargetSpec = ArrayLike | str | Mapping[str, Any] | None
 """A target set: an (N, n) array [m], ``"auto"``, a grid spec or an explicit-points spec (see
-:func:`gb_pin.targets_auto.resolve_targets`)."""
+:func:`gb_pin.robot.targets_auto.resolve_targets`)."""
 
 
 class KinematicTarget:
@@ -302,7 +302,7 @@ class KinematicTarget:
         included, is locked at the reference posture.
 
         Args:
-            name: the robot's name, see :data:`gb_pin.robot_models.DESCRIPTIONS`.
+            name: the robot's name, see :data:`gb_pin.robot.models.DESCRIPTIONS`.
             frame: operational frame.
             joints: joints the learner moves.
             home: home posture over ``joints`` or a reference configuration name.
@@ -506,7 +506,7 @@ class KinematicTarget:
         """The ``"auto"`` target set: the largest reachable 3-per-axis grid around the home position [m].
 
         Computed once (seeded, so always the same) and cached; see
-        :func:`gb_pin.targets_auto.auto_grid` for other shapes and scales.
+        :func:`gb_pin.robot.targets_auto.auto_grid` for other shapes and scales.
         """
         if self._auto is None:
             self._auto = auto_grid(self).targets
@@ -519,7 +519,7 @@ class KinematicTarget:
         joint than the sum of the link lengths (plus the prismatic strokes) is
         certainly unreachable (:class:`~gb_pin.exceptions.UnreachableTargetWarning`);
         a point within that ball may still be unreachable (joint limits, the body).
-        Use :func:`gb_pin.targets_auto.check_reachable` for a full check.
+        Use :func:`gb_pin.robot.targets_auto.check_reachable` for a full check.
 
         Raises:
             InvalidArgumentError: wrong shape or non-finite values.

@@ -3,21 +3,20 @@
 from __future__ import annotations
 
 import os
-from typing import Any
 
 import numpy as np
 
-from gb_pin._archive import atomic_savez, read_archive
-from gb_pin.api import BabbleResult
-from gb_pin.babbling import BabbleConfig, History, RecordedSteps
 from gb_pin.exceptions import GbPinError, ResultFileError
-from gb_pin.llm import LocalLinearMap
-from gb_pin.robots import load_robot
-from gb_pin.target import KinematicTarget
+from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.history import History, RecordedSteps
+from gb_pin.learn.llm import LocalLinearMap
+from gb_pin.robot.presets import load_robot
+from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.archive import atomic_savez, read_archive
+from gb_pin.runs.result import BabbleResult
 
 FORMAT = "gb_pin.result"
 FORMAT_VERSION = 1
-_REC_KEYS = ("rec_step", "rec_movement", "rec_posture", "rec_target", "rec_position")
 _KEYS = (
     "meta",
     "movements",
@@ -49,16 +48,7 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         "wall_time": result.wall_time,
     }
     path = os.fspath(path)
-    recording: dict[str, Any] = {}
-    if result.recording is not None:
-        rec = result.recording
-        recording = {
-            "rec_step": rec.step,
-            "rec_movement": rec.movement,
-            "rec_posture": rec.posture,
-            "rec_target": rec.target,
-            "rec_position": rec.position,
-        }
+    recording = {} if result.recording is None else result.recording.to_arrays()
     atomic_savez(
         path,
         {
@@ -67,9 +57,7 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
             "error": result.history.error,
             "home_distance": result.history.home_distance,
             "targets": result.targets,
-            "prototypes": result.model.prototypes_,
-            "matrices": result.model.matrices_,
-            "offsets": result.model.offsets_,
+            **result.model.to_arrays(),
         },
         meta,
         compress=True,
@@ -88,9 +76,6 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
     """
     path = os.fspath(path)
     arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
-    rec_keys = [k for k in _REC_KEYS if k in arrays]
-    if rec_keys and len(rec_keys) != len(_REC_KEYS):
-        raise ResultFileError(f"{path}: incomplete recording (has {rec_keys})")
     try:
         if target is None:
             if meta["robot"] is None:
@@ -105,31 +90,12 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
                 f"but the target has {target.n_joints} and {target.n_task}"
             )
         config = BabbleConfig(**meta["config"])
-        P, W, O = arrays["prototypes"], arrays["matrices"], arrays["offsets"]
-        K = P.shape[0]
-        if K < 1 or W.shape != (K, target.n_joints, target.n_task) or O.shape != (K, target.n_joints):
+        model = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate)
+        if (model.n_outputs_, model.n_inputs_) != (target.n_joints, target.n_task):
             raise ResultFileError(
-                f"{path}: model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}"
+                f"{path}: model arrays of {model.n_outputs_} outputs, {model.n_inputs_} inputs"
             )
-        model = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate)
-        model.initialize(P[0], O[0], capacity=K)
-        model._P[:K], model._W[:K], model._O[:K] = P, W, O
-        model._K = K
-        recording = None
-        if "rec_step" in arrays:
-            recording = RecordedSteps(
-                step=arrays["rec_step"].astype(np.int64),
-                movement=arrays["rec_movement"].astype(np.int64),
-                posture=arrays["rec_posture"].astype(float),
-                target=arrays["rec_target"].astype(float),
-                position=arrays["rec_position"].astype(float),
-            )
-            R = recording.step.shape[0]
-            if recording.posture.shape != (R, target.n_joints) or recording.target.shape != (
-                R,
-                target.n_task,
-            ):
-                raise ResultFileError(f"{path}: recording arrays of inconsistent shapes")
+        recording = RecordedSteps.from_arrays(arrays, target.n_joints, target.n_task)
         history = History(
             movements=arrays["movements"].astype(np.int64),
             error=arrays["error"].astype(float),

@@ -1,0 +1,20 @@
+"""The learner's body: compiled forward kinematics (joints) and the task map (what x is)."""
+
+from gb_pin.learn.body.chain import Body, KinematicChain, body_forward
+from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
+from gb_pin.learn.body.task import FRAME_POSITION, FramePosition, TaskArrays, TaskMap, task_forward
+
+__all__ = [
+    "FRAME_POSITION",
+    "PRISMATIC",
+    "REVOLUTE",
+    "Body",
+    "FramePosition",
+    "Joints",
+    "KinematicChain",
+    "TaskArrays",
+    "TaskMap",
+    "body_forward",
+    "joints_forward",
+    "task_forward",
+]

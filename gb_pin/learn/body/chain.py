@@ -1,0 +1,179 @@
+"""The body the learner babbles with: compiled forward kinematics f(q) of one task map.
+
+The babbling loop runs hundreds of millions of steps and cannot call Pinocchio per
+step. :class:`KinematicChain` holds what f needs as plain arrays (joint parents,
+placements, axes and kinds; the frame and the task axes), filled from a ``pin.Model`` on
+the robot side (:mod:`gb_pin.robot.chain_reader`), so that Pinocchio stays the single
+source of the robot. :meth:`KinematicChain.kernel` gives the compiled form
+(:class:`Body`, evaluated by :func:`body_forward`), tested against
+``pin.framesForwardKinematics``.
+
+This module imports neither pinocchio nor meshcat: the learner uses it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Any, NamedTuple
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
+from gb_pin.learn.body.task import FramePosition, TaskArrays, task_forward
+
+__all__ = ["PRISMATIC", "REVOLUTE", "Body", "KinematicChain", "body_forward"]
+
+
+class Body(NamedTuple):
+    """Compiled forward kinematics with its scratch buffers (what :func:`body_forward` takes).
+
+    Attributes:
+        joints: the kinematic tree.
+        task: the task map.
+        rot_ws: (m, 3, 3) scratch, receives each joint's world rotation.
+        pos_ws: (m, 3) scratch, receives each joint's world position.
+    """
+
+    joints: Joints
+    task: TaskArrays
+    rot_ws: NDArray[np.float64]
+    pos_ws: NDArray[np.float64]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def body_forward(q, body, out):  # type: ignore[no-untyped-def]
+    """x = f(q) into ``out`` (n,) for one posture ``q`` (m,) (Eq. 1)."""
+    joints_forward(q, body.joints, body.rot_ws, body.pos_ws)
+    task_forward(body.task, body.rot_ws, body.pos_ws, out)
+
+
+@dataclass(frozen=True, eq=False)
+class KinematicChain:
+    """Arrays describing the forward kinematics of one frame's position.
+
+    Joints are numbered 0..m-1 so that every joint's parent comes before it;
+    ``q_index`` maps them to entries of the learner's posture vector q. Joint i's frame is
+    ``oMi = oMparent * placement_i * motion_i(q_i)``.
+
+    Attributes:
+        parents: (m,) int64, index of the parent joint, -1 for the world.
+        rotations: (m, 3, 3) rotation of each joint placement in its parent.
+        translations: (m, 3) translation of each joint placement in its parent [m].
+        axes: (m, 3) unit joint axis in the joint frame.
+        kinds: (m,) int64, ``REVOLUTE`` (q in [rad]) or ``PRISMATIC`` (q in [m]).
+        q_index: (m,) int64, which entry of the posture vector q drives each joint.
+        frame_parent: index of the joint carrying the operational frame, -1 for the world.
+        frame_translation: (3,) position of the frame in its parent joint [m].
+        task_axes: (n,) int64, which world coordinates (0=x, 1=y, 2=z) the learner sees.
+    """
+
+    parents: NDArray[np.int64]
+    rotations: NDArray[np.float64]
+    translations: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    kinds: NDArray[np.int64]
+    q_index: NDArray[np.int64]
+    frame_parent: int
+    frame_translation: NDArray[np.float64]
+    task_axes: NDArray[np.int64]
+
+    @property
+    def n_joints(self) -> int:
+        """Number of joints m (the posture dimension)."""
+        return int(self.parents.shape[0])
+
+    @property
+    def n_task(self) -> int:
+        """Task dimension n."""
+        return int(self.task_axes.shape[0])
+
+    @property
+    def joints(self) -> Joints:
+        """The kinematic tree as arrays."""
+        return Joints(self.parents, self.rotations, self.translations, self.axes, self.kinds, self.q_index)
+
+    @property
+    def task(self) -> FramePosition:
+        """The task map: the frame's position on :attr:`task_axes`."""
+        return FramePosition(self.frame_parent, self.frame_translation, self.task_axes)
+
+    def kernel(self) -> Body:
+        """The compiled form, with fresh scratch buffers."""
+        m = self.n_joints
+        return Body(self.joints, self.task.arrays(), np.empty((m, 3, 3)), np.empty((m, 3)))
+
+    def forward(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Task-space position of the frame for one posture ``q`` of shape (m,)."""
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        if q.shape != (self.n_joints,):
+            raise InvalidArgumentError(f"q must have shape ({self.n_joints},), got shape {q.shape}")
+        out = np.empty(self.n_task)
+        body_forward(q, self.kernel(), out)
+        return out
+
+    # -- as plain arrays (checkpoints) --------------------------------------------
+    def to_arrays(self, prefix: str = "chain_") -> dict[str, NDArray[Any]]:
+        """Every field as an array, under ``prefix + name``."""
+        return {prefix + f.name: np.asarray(getattr(self, f.name)) for f in fields(self)}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict[str, Any], prefix: str = "chain_") -> KinematicChain:
+        """The chain written by :meth:`to_arrays`, validated.
+
+        Raises:
+            InvalidArgumentError: arrays missing, of the wrong dtype, shape or range.
+        """
+        try:
+            raw = {f.name: np.asarray(arrays[prefix + f.name]) for f in fields(cls)}
+        except KeyError as exc:
+            raise InvalidArgumentError(f"kinematic chain incomplete (missing {exc})") from exc
+        ints = ("parents", "kinds", "q_index", "task_axes")
+        values: dict[str, Any] = {}
+        for name, arr in raw.items():
+            kind = "iu" if name in ints or name == "frame_parent" else "fiu"
+            if arr.dtype.kind not in kind:
+                raise InvalidArgumentError(f"kinematic chain: {name} has dtype {arr.dtype}")
+            dtype = np.int64 if kind == "iu" else np.float64
+            values[name] = np.array(arr, dtype=dtype, order="C")
+        if values["frame_parent"].shape != ():
+            raise InvalidArgumentError("kinematic chain: frame_parent must be one integer")
+        values["frame_parent"] = int(values["frame_parent"])
+        chain = cls(**values)
+        chain.validate()
+        return chain
+
+    def validate(self) -> None:
+        """Check shapes and index ranges, so that compiled code never reads out of bounds.
+
+        Raises:
+            InvalidArgumentError: inconsistent arrays.
+        """
+        m, n = self.parents.shape[0] if self.parents.ndim == 1 else -1, self.task_axes.shape[0]
+        shapes = {
+            "parents": (m,), "rotations": (m, 3, 3), "translations": (m, 3), "axes": (m, 3),
+            "kinds": (m,), "q_index": (m,), "frame_translation": (3,), "task_axes": (n,),
+        }  # fmt: skip
+        for name, shape in shapes.items():
+            if np.shape(getattr(self, name)) != shape:
+                raise InvalidArgumentError(
+                    f"kinematic chain: {name} has shape {np.shape(getattr(self, name))}, expected {shape}"
+                )
+        ok = (
+            m >= 1
+            and n >= 1
+            and all(-1 <= int(p) < i for i, p in enumerate(self.parents))
+            and np.all((self.kinds == REVOLUTE) | (self.kinds == PRISMATIC))
+            and np.all((self.q_index >= 0) & (self.q_index < m))
+            and -1 <= self.frame_parent < m
+            and np.all((self.task_axes >= 0) & (self.task_axes < 3))
+            and all(np.all(np.isfinite(a)) for a in (self.rotations, self.translations, self.axes))
+            and bool(np.all(np.isfinite(self.frame_translation)))
+        )
+        if not ok:
+            raise InvalidArgumentError(
+                "kinematic chain: indices out of range (parents, kinds, q_index, frame_parent or "
+                "task_axes) or non-finite placements"
+            )

@@ -1,0 +1,116 @@
+"""What a run measures and records: E^X / D^home histories and recorded steps."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError
+
+
+@dataclass(frozen=True)
+class History:
+    """E^X and D^home recorded during a run.
+
+    Attributes:
+        movements: (T,) movement counts r at which the model was evaluated (starts at 0).
+        error: (T,) E^X (Eq. 9) [m].
+        home_distance: (T,) D^home (Eq. 10) [rad].
+    """
+
+    movements: NDArray[np.int64]
+    error: NDArray[np.float64]
+    home_distance: NDArray[np.float64]
+
+    def at(self, movements: int) -> tuple[float, float]:
+        """(E^X, D^home) at a recorded movement count."""
+        idx = np.flatnonzero(self.movements == movements)
+        if not idx.size:
+            raise InvalidArgumentError(
+                f"movements={movements!r} was not recorded; recorded: "
+                f"{self.movements[0]}..{self.movements[-1]} (see History.movements)"
+            )
+        return float(self.error[idx[0]]), float(self.home_distance[idx[0]])
+
+
+@dataclass(frozen=True)
+class Recording:
+    """Which steps of a run to record (for replay and viewers).
+
+    Attributes:
+        every: record every ``every``-th time step.
+        first: first movement recorded.
+        last: movements ``first <= r < last`` are recorded; None for all.
+    """
+
+    every: int = 1
+    first: int = 0
+    last: int | None = None
+
+    def __post_init__(self) -> None:
+        check.positive_int("every", self.every)
+        check.positive_int("first", self.first, minimum=0)
+        if self.last is not None:
+            check.positive_int("last", self.last, minimum=self.first)
+
+
+@dataclass(frozen=True)
+class RecordedSteps:
+    """Recorded steps of a run.
+
+    Attributes:
+        step: (R,) time step t (1-based).
+        movement: (R,) movement r the step belongs to.
+        posture: (R, m) executed posture q_t.
+        target: (R, n) target x*_t [m]; NaN during home returns.
+        position: (R, n) reached position x_t = f(q_t) [m].
+    """
+
+    step: NDArray[np.int64]
+    movement: NDArray[np.int64]
+    posture: NDArray[np.float64]
+    target: NDArray[np.float64]
+    position: NDArray[np.float64]
+
+    FIELDS = ("step", "movement", "posture", "target", "position")
+    DTYPES = (np.int64, np.int64, np.float64, np.float64, np.float64)
+
+    def to_arrays(self, prefix: str = "rec_") -> dict[str, NDArray[Any]]:
+        """The arrays under the names files use (``rec_step``, ``rec_movement``, ...)."""
+        return {prefix + k: getattr(self, k) for k in self.FIELDS}
+
+    @classmethod
+    def from_arrays(
+        cls, arrays: dict[str, Any], n_joints: int, n_task: int, prefix: str = "rec_"
+    ) -> RecordedSteps | None:
+        """The recording stored under ``prefix`` names, None if there is none.
+
+        Raises:
+            InvalidArgumentError: some of the arrays missing, or of inconsistent shapes.
+        """
+        keys = [prefix + k for k in cls.FIELDS]
+        present = [k for k in keys if k in arrays]
+        if not present:
+            return None
+        if len(present) != len(keys):
+            raise InvalidArgumentError(f"incomplete recording (has {present})")
+        values = {
+            k: np.asarray(arrays[prefix + k]).astype(dtype)
+            for k, dtype in zip(cls.FIELDS, cls.DTYPES, strict=True)
+        }
+        rec = cls(**values)
+        R = rec.step.shape[0]
+        shapes_ok = (
+            rec.step.shape == (R,)
+            and rec.movement.shape == (R,)
+            and rec.posture.shape == (R, n_joints)
+            and rec.target.shape == (R, n_task)
+            and rec.position.shape == (R, n_task)
+        )
+        if not shapes_ok:
+            raise InvalidArgumentError("recording arrays of inconsistent shapes")
+        return rec

@@ -1,0 +1,162 @@
+"""The compiled loop's arguments as named structures, and the indices of its counters.
+
+:meth:`gb_pin.learn.state.BabbleState.kernel_args` is the one place on the Python side
+that builds them; :func:`gb_pin.learn.loop.babble_loop` reads them by name, so that no
+argument can be passed in the wrong order without numba refusing to compile.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin.learn.body.chain import Body
+from gb_pin.learn.goals.base import GoalArrays
+from gb_pin.learn.llm_kernels import MapArrays
+
+# Indices into the int64 counters (Run.counters), saved in checkpoints as "istate".
+MOVEMENTS = 0  # r: completed movements, home returns included
+STEP = 1  # l: steps done in the current movement (0..L)
+KIND = 2  # kind of the current movement, NONE between movements
+LAST_KIND = 3  # kind of the previous movement
+PROTOTYPES = 4  # K
+EVAL_CURSOR = 5  # next entry of the evaluation schedule
+STEPS = 6  # total steps t
+RECORDED = 7  # entries written to the recording buffers
+ISTATE_SIZE = 8
+
+# Movement kinds.
+NONE = -1
+GOAL = 0
+HOME = 1
+
+# Status codes returned by babble_loop.
+DONE = 0
+NEED_CAPACITY = 1
+NOT_FINITE = 2
+NEED_RECORD_CAPACITY = 3
+NEED_GOAL = 4  # a goal generator written in Python must write the next path end
+
+MAX_POSTURE = 1e6  # a posture beyond this (rad or m) means the estimate has exploded
+
+
+class Hyper(NamedTuple):
+    """The hyperparameters as the loop uses them (see :mod:`gb_pin.learn.config`)."""
+
+    learning_rate: float
+    sigma: float
+    sigma_delta: float
+    radius: float
+    path_length: int
+    p_home: float
+
+
+class Limits(NamedTuple):
+    """Home posture and joint limits, (m,) each ([rad] or [m]; +-inf where unbounded)."""
+
+    home: NDArray[np.float64]
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+
+
+class Noise(NamedTuple):
+    """E_t(x) = A x + b of Eq. 8: A (m, n), b (m,)."""
+
+    A: NDArray[np.float64]
+    b: NDArray[np.float64]
+
+
+class Learner(NamedTuple):
+    """What learns: hyperparameters, the local-linear map, the exploration noise."""
+
+    hyper: Hyper
+    lm: MapArrays
+    noise: Noise
+
+
+class Robot(NamedTuple):
+    """What is learnt about: limits and the compiled forward kinematics."""
+
+    limits: Limits
+    body: Body
+
+
+class Motion(NamedTuple):
+    """Where the run is: the previous step, the current path, and per-step scratch buffers.
+
+    Attributes:
+        q_prev: (m,) the last executed posture.
+        q_start: (m,) start of the current home return.
+        x_prev: (n,) the last reached position.
+        target_prev: (n,) the last goal-directed target.
+        path_start: (n,) start of the current target path (Eq. 3).
+        path_end: (n,) end of the current target path (the goal).
+        q: (m,) scratch: this step's posture.
+        x: (n,) scratch: this step's position.
+        target: (n,) scratch: this step's target.
+    """
+
+    q_prev: NDArray[np.float64]
+    q_start: NDArray[np.float64]
+    x_prev: NDArray[np.float64]
+    target_prev: NDArray[np.float64]
+    path_start: NDArray[np.float64]
+    path_end: NDArray[np.float64]
+    q: NDArray[np.float64]
+    x: NDArray[np.float64]
+    target: NDArray[np.float64]
+
+
+class Run(NamedTuple):
+    """The run's mutable state: the motion and the int64 counters (indices above)."""
+
+    motion: Motion
+    counters: NDArray[np.int64]
+
+
+class Evaluation(NamedTuple):
+    """When and where E^X and D^home are measured, and the output arrays (one entry per count)."""
+
+    at: NDArray[np.int64]
+    targets: NDArray[np.float64]
+    errors: NDArray[np.float64]
+    distances: NDArray[np.float64]
+
+
+class Recorder(NamedTuple):
+    """Every ``every``-th step of movements ``first <= r < last`` is written to the buffers."""
+
+    every: int
+    first: int
+    last: int
+    step: NDArray[np.int64]
+    movement: NDArray[np.int64]
+    posture: NDArray[np.float64]
+    target: NDArray[np.float64]
+    position: NDArray[np.float64]
+
+
+class Monitor(NamedTuple):
+    """What the loop measures and records, never what it learns."""
+
+    evaluation: Evaluation
+    recorder: Recorder
+
+
+__all__ = [
+    "Body",
+    "Evaluation",
+    "GoalArrays",
+    "Hyper",
+    "Learner",
+    "Limits",
+    "MapArrays",
+    "Monitor",
+    "Motion",
+    "Noise",
+    "Recorder",
+    "Robot",
+    "Run",
+]

@@ -1,0 +1,183 @@
+"""Local-linear map (paper Sec. II-C): the inverse estimate g(x) and its online learning.
+
+    g(x) = sum_k beta_k(x) (W_k u_k + o_k),   u_k = (x - p_k) / d,
+    beta_k(x) = b(u_k) / sum_j b(u_j),         b(u) = exp(-||u||^2).
+
+Conventions (the paper is silent; these reproduce its numbers):
+
+* W_k acts on the scaled input u_k, so a new prototype gets W = d * dg/dx.
+* The gradient of w ||q - g(x)||^2 is taken with its factor 2 folded into the
+  learning rate: o_k += eta w beta_k (q - g(x)) and W_k += eta w beta_k (q - g(x)) u_k^T.
+* Responsibilities are computed as exp(-(||u_k||^2 - min_j ||u_j||^2)) before
+  normalising, which is the same soft-max but never underflows far from all prototypes.
+
+The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
+matrices W (K, m, n), offsets O (K, m), and scratch buffers): no allocation per step.
+:class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+
+class MapArrays(NamedTuple):
+    """A local-linear map's storage and scratch buffers, as the compiled kernels take them.
+
+    Attributes:
+        prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
+        matrices: (capacity, m, n) local matrices W_k (acting on (x - p_k) / d).
+        offsets: (capacity, m) local offsets o_k.
+        radius: d [m].
+        act: (capacity,) scratch: activations.
+        g: (m,) scratch: g(x).
+        y: (m,) scratch: one local model's output, or the error q - g(x).
+        J: (m, n) scratch: dg/dx.
+    """
+
+    prototypes: NDArray[np.float64]
+    matrices: NDArray[np.float64]
+    offsets: NDArray[np.float64]
+    radius: float
+    act: NDArray[np.float64]
+    g: NDArray[np.float64]
+    y: NDArray[np.float64]
+    J: NDArray[np.float64]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
+    """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
+
+    ``lm.act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)).
+    """
+    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    n = x.shape[0]
+    m = out.shape[0]
+    inv = 1.0 / radius
+    smallest = np.inf
+    for k in range(K):
+        s = 0.0
+        for j in range(n):
+            u = (x[j] - P[k, j]) * inv
+            s += u * u
+        act[k] = s
+        if s < smallest:
+            smallest = s
+    total = 0.0
+    for i in range(m):
+        out[i] = 0.0
+    for k in range(K):
+        a = math.exp(smallest - act[k])
+        act[k] = a
+        total += a
+        for i in range(m):
+            y = O[k, i]
+            for j in range(n):
+                y += W[k, i, j] * ((x[j] - P[k, j]) * inv)
+            out[i] += a * y
+    for i in range(m):
+        out[i] /= total
+    return total, smallest
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def llm_jacobian(x, lm, K):  # type: ignore[no-untyped-def]
+    """dg/dx into ``lm.J`` (m, n) and g(x) into ``lm.g`` (m,), responsibilities' derivative included.
+
+    With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
+    J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
+    """
+    P, W, O, act, radius, g, y, J = (
+        lm.prototypes,
+        lm.matrices,
+        lm.offsets,
+        lm.act,
+        lm.radius,
+        lm.g,
+        lm.y,
+        lm.J,
+    )
+    n = x.shape[0]
+    m = g.shape[0]
+    inv = 1.0 / radius
+    total, _ = llm_predict(x, lm, K, g)
+    for i in range(m):
+        for j in range(n):
+            J[i, j] = 0.0
+    for k in range(K):
+        beta = act[k] / total
+        for i in range(m):
+            yi = O[k, i]
+            for j in range(n):
+                yi += W[k, i, j] * ((x[j] - P[k, j]) * inv)
+            y[i] = yi
+        for i in range(m):
+            r = 2.0 * (y[i] - g[i])
+            for j in range(n):
+                J[i, j] += beta * (W[k, i, j] - r * ((x[j] - P[k, j]) * inv))
+    for i in range(m):
+        for j in range(n):
+            J[i, j] *= inv
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def llm_insert(x, lm, K):  # type: ignore[no-untyped-def]
+    """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
+
+    The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
+    """
+    P, W, O, radius, g, J = lm.prototypes, lm.matrices, lm.offsets, lm.radius, lm.g, lm.J
+    llm_jacobian(x, lm, K)
+    n = x.shape[0]
+    m = g.shape[0]
+    for j in range(n):
+        P[K, j] = x[j]
+    for i in range(m):
+        O[K, i] = g[i]
+        for j in range(n):
+            W[K, i, j] = radius * J[i, j]
+    return K + 1
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def llm_learn(x, q, w, eta, lm, K):  # type: ignore[no-untyped-def]
+    """One online step on the example (x, q) with weight w; returns the new prototype count.
+
+    Inserts a prototype first if ``x`` is at distance >= d from all prototypes,
+    then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
+    o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
+    """
+    P, W, O, act, radius, g, y = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius, lm.g, lm.y
+    n = x.shape[0]
+    m = q.shape[0]
+    inv = 1.0 / radius
+    total, smallest = llm_predict(x, lm, K, g)
+    if smallest >= 1.0:
+        K = llm_insert(x, lm, K)
+        total, smallest = llm_predict(x, lm, K, g)
+    if w == 0.0:
+        return K
+    for i in range(m):
+        y[i] = q[i] - g[i]  # the error e, kept in y
+    scale = eta * w / total
+    for k in range(K):
+        c = scale * act[k]
+        for i in range(m):
+            ce = c * y[i]
+            O[k, i] += ce
+            for j in range(n):
+                W[k, i, j] += ce * ((x[j] - P[k, j]) * inv)
+    return K
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def llm_predict_many(X, lm, K, out):  # type: ignore[no-untyped-def]
+    """g(x) for every row of X (N, n) into out (N, m)."""
+    for r in range(X.shape[0]):
+        llm_predict(X[r], lm, K, out[r])

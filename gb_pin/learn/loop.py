@@ -1,0 +1,191 @@
+"""The compiled online goal-babbling loop (paper Sec. II): one call runs many movements.
+
+Everything a step needs lives in preallocated arrays, passed as the named structures of
+:mod:`gb_pin.learn.layout`; the loop allocates nothing and creates no Python object per
+step. State that must survive between calls (and be checkpointed) is in the counters and
+the arrays of the motion, the map, the noise and the goal generator.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.exploration import noise_add, noise_walk
+from gb_pin.learn.goals.kernel import next_goal
+from gb_pin.learn.layout import (
+    DONE,
+    EVAL_CURSOR,
+    GOAL,
+    HOME,
+    KIND,
+    LAST_KIND,
+    MAX_POSTURE,
+    MOVEMENTS,
+    NEED_CAPACITY,
+    NEED_GOAL,
+    NEED_RECORD_CAPACITY,
+    NONE,
+    NOT_FINITE,
+    PROTOTYPES,
+    RECORDED,
+    STEP,
+    STEPS,
+)
+from gb_pin.learn.llm_kernels import llm_learn, llm_predict
+from gb_pin.learn.metrics import evaluate_model
+from gb_pin.learn.weighting import direction_weight, efficiency_weight
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore[no-untyped-def]
+    """Run goal babbling until ``stop`` movements are complete.
+
+    Args:
+        rng: numpy Generator (its bit generator is advanced in place).
+        stop: movement count at which to return.
+        learner: :class:`~gb_pin.learn.layout.Learner` (hyperparameters, map, noise).
+        robot: :class:`~gb_pin.learn.layout.Robot` (limits, compiled forward kinematics).
+        run: :class:`~gb_pin.learn.layout.Run` (motion and counters).
+        goals: :class:`~gb_pin.learn.goals.base.GoalArrays` of the goal generator.
+        monitor: :class:`~gb_pin.learn.layout.Monitor` (evaluation schedule, recording).
+
+    Returns:
+        DONE; NEED_CAPACITY (grow the map and call again); NEED_RECORD_CAPACITY (grow the
+        recording buffers and call again); NEED_GOAL (write the goal into
+        ``run.motion.path_end`` and call again); or NOT_FINITE.
+    """
+    counters = run.counters
+    while True:
+        if counters[KIND] == NONE:
+            _evaluate_due(learner, robot, run, monitor.evaluation)
+            if counters[MOVEMENTS] >= stop:
+                return DONE
+            if not _begin_movement(rng, learner.hyper.p_home, run, goals):
+                return NEED_GOAL
+        if counters[PROTOTYPES] >= learner.lm.prototypes.shape[0]:
+            return NEED_CAPACITY
+        rec = monitor.recorder
+        recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
+        if recording and counters[RECORDED] >= rec.step.shape[0]:
+            return NEED_RECORD_CAPACITY
+        if not _step(rng, learner, robot, run, rec, recording):
+            return NOT_FINITE
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
+    """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10)."""
+    counters = run.counters
+    r = counters[MOVEMENTS]
+    c = counters[EVAL_CURSOR]
+    at = evaluation.at
+    while c < at.shape[0] and at[c] <= r:
+        if at[c] == r:
+            e, d = evaluate_model(
+                evaluation.targets, robot.limits, robot.body, learner.lm, counters[PROTOTYPES],
+                run.motion.q, run.motion.x,
+            )  # fmt: skip
+            evaluation.errors[c] = e
+            evaluation.distances[c] = d
+        c += 1
+    counters[EVAL_CURSOR] = c
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
+    """Choose the next movement: a home return (Eq. 7) or a goal-directed path (Eq. 3).
+
+    After a goal-directed movement the arm returns home with probability p_home; the first
+    movement and the one after a home return are goal-directed (Sec. II-A). Returns False
+    when a Python goal generator must write the goal into ``path_end``.
+    """
+    counters = run.counters
+    mo = run.motion
+    counters[STEP] = 0
+    if counters[LAST_KIND] == GOAL and rng.random() < p_home:
+        counters[KIND] = HOME
+        for i in range(mo.q_start.shape[0]):
+            mo.q_start[i] = mo.q_prev[i]
+        return True
+    counters[KIND] = GOAL
+    for j in range(mo.path_start.shape[0]):
+        mo.path_start[j] = mo.path_end[j]
+    return next_goal(goals, rng, mo.path_end)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _step(rng, learner, robot, run, rec, recording):  # type: ignore[no-untyped-def]
+    """One time step: posture, forward kinematics, weights, learning, noise walk; False if it diverged."""
+    counters = run.counters
+    mo = run.motion
+    hyper = learner.hyper
+    home, lower, upper = robot.limits
+    q, x, target = mo.q, mo.x, mo.target
+    L = hyper.path_length
+    m = q.shape[0]
+    n = x.shape[0]
+    step = counters[STEP] + 1
+    kind = counters[KIND]
+    a = (L - step) / L
+    bw = step / L
+    if kind == GOAL:
+        # Eq. 3: linear target path; Eq. 2: q_t = g(x*_t) + E_t(x*_t).
+        for j in range(n):
+            target[j] = a * mo.path_start[j] + bw * mo.path_end[j]
+        llm_predict(target, learner.lm, counters[PROTOTYPES], q)
+        noise_add(learner.noise.A, learner.noise.b, target, q)
+    else:
+        # Eq. 7: linear path in joint space from the last posture to home.
+        for i in range(m):
+            q[i] = a * mo.q_start[i] + bw * home[i]
+    finite = True
+    for i in range(m):
+        # A posture beyond 1e6 (rad or m) means the estimate has exploded.
+        if not (abs(q[i]) <= MAX_POSTURE):
+            finite = False
+        q[i] = min(max(q[i], lower[i]), upper[i])  # the robot executes the clipped posture
+    if not finite:
+        return False
+    body_forward(q, robot.body, x)  # Eq. 1
+    if recording:
+        _record(counters, rec, q, x, target, kind)
+    w = efficiency_weight(x, mo.x_prev, q, mo.q_prev)  # Eq. 5
+    if kind == GOAL:
+        w *= direction_weight(target, mo.target_prev, x, mo.x_prev)  # Eqs. 4, 6
+    counters[PROTOTYPES] = llm_learn(x, q, w, hyper.learning_rate, learner.lm, counters[PROTOTYPES])
+    noise_walk(rng, hyper.sigma, hyper.sigma_delta, learner.noise.A, learner.noise.b)
+    for i in range(m):
+        mo.q_prev[i] = q[i]
+    for j in range(n):
+        mo.x_prev[j] = x[j]
+        if kind == GOAL:
+            mo.target_prev[j] = target[j]
+    counters[STEP] = step
+    counters[STEPS] += 1
+    if step == L:
+        if kind == HOME:
+            # The next goal path starts at f(q_home), which is where the arm is.
+            for j in range(n):
+                mo.path_end[j] = x[j]
+                mo.target_prev[j] = x[j]
+        counters[LAST_KIND] = kind
+        counters[KIND] = NONE
+        counters[MOVEMENTS] += 1
+    return True
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _record(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-def]
+    """Write this step to the recording buffers (target NaN during home returns)."""
+    c = counters[RECORDED]
+    rec.step[c] = counters[STEPS] + 1
+    rec.movement[c] = counters[MOVEMENTS]
+    for i in range(q.shape[0]):
+        rec.posture[c, i] = q[i]
+    for j in range(x.shape[0]):
+        rec.target[c, j] = target[j] if kind == GOAL else math.nan
+        rec.position[c, j] = x[j]
+    counters[RECORDED] = c + 1

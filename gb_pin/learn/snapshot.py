@@ -1,0 +1,189 @@
+"""A :class:`~gb_pin.learn.state.BabbleState` as plain arrays and back, validated.
+
+Checkpoint files hold these arrays. Everything read back is checked (dtype, shape, range,
+consistency) before any compiled code sees it: a tampered or corrupted file gets
+:class:`~gb_pin.exceptions.InvalidArgumentError` (reported as ``ResultFileError`` by the
+checkpoint reader), never an out-of-bounds read.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn import layout
+from gb_pin.learn.body.chain import KinematicChain
+from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.goals import GoalArrays, GoalGenerator
+from gb_pin.learn.history import RecordedSteps
+from gb_pin.learn.llm import LocalLinearMap
+
+if TYPE_CHECKING:
+    from gb_pin.learn.state import BabbleState
+
+# The bit generators a checkpoint may name (never np.random's legacy global functions).
+BIT_GENERATORS = {"PCG64": np.random.PCG64, "PCG64DXSM": np.random.PCG64DXSM, "MT19937": np.random.MT19937,
+                  "Philox": np.random.Philox, "SFC64": np.random.SFC64}  # fmt: skip
+
+
+def state_to_arrays(st: BabbleState) -> dict[str, NDArray[Any]]:
+    """Every array of the state, trimmed to what is in use."""
+    c = int(st.istate[layout.RECORDED])
+    out: dict[str, NDArray[Any]] = {
+        "home": st.home,
+        "lower": st.lower,
+        "upper": st.upper,
+        "targets": st.targets,
+        "eval_targets": st.eval_targets,
+        "schedule": st.schedule,
+        "errors": st.errors,
+        "distances": st.distances,
+        **st.llm.to_arrays(),
+        "noise_A": st.A,
+        "noise_b": st.b,
+        "istate": st.istate,
+        "record": np.array(st.record, dtype=np.int64),
+        "goal_istate": st.goal_state.istate,
+        "goal_fstate": st.goal_state.fstate,
+    }
+    for key in st.VECTORS:
+        out[key] = st.vectors[key]
+    for key, arr in st.rec.items():
+        out["rec_" + key] = arr[:c]
+    out.update(st.chain.to_arrays())
+    if st.changes:
+        out["change_movements"] = np.array([at for at, _ in st.changes], dtype=np.int64)
+        for i, (_, chain) in enumerate(st.changes):
+            out.update(chain.to_arrays(prefix=f"change{i}_chain_"))
+    return out
+
+
+def _real(
+    arrays: dict[str, Any], key: str, shape: tuple[int, ...], finite: bool = True
+) -> NDArray[np.float64]:
+    arr = np.asarray(arrays[key])
+    if arr.dtype.kind not in "fiu" or arr.shape != shape:
+        raise InvalidArgumentError(f"{key} must be real of shape {shape}, got {arr.dtype} {arr.shape}")
+    out = np.ascontiguousarray(arr, dtype=np.float64)
+    if finite and not np.all(np.isfinite(out)):
+        raise InvalidArgumentError(f"{key} must be finite")
+    return out
+
+
+def _ints(arrays: dict[str, Any], key: str, shape: tuple[int, ...]) -> NDArray[np.int64]:
+    arr = np.asarray(arrays[key])
+    if arr.dtype.kind not in "iu" or arr.shape != shape:
+        raise InvalidArgumentError(f"{key} must be integers of shape {shape}, got {arr.dtype} {arr.shape}")
+    return np.ascontiguousarray(arr, dtype=np.int64)
+
+
+def _rng(rng_state: Any) -> np.random.Generator:
+    if not isinstance(rng_state, dict) or rng_state.get("bit_generator") not in BIT_GENERATORS:
+        raise InvalidArgumentError(
+            f"unknown random generator state (bit generators: {', '.join(BIT_GENERATORS)})"
+        )
+    bit_generator = BIT_GENERATORS[rng_state["bit_generator"]]()
+    try:
+        bit_generator.state = rng_state
+    except (TypeError, ValueError, KeyError, OverflowError) as exc:
+        raise InvalidArgumentError(f"invalid random generator state ({exc})") from exc
+    return np.random.Generator(bit_generator)
+
+
+def state_from_arrays(
+    st: BabbleState, arrays: dict[str, Any], config: BabbleConfig, rng_state: Any, goals: GoalGenerator
+) -> BabbleState:
+    """Fill ``st`` from the arrays of :func:`state_to_arrays`, validating every one of them."""
+    try:
+        _fill(st, arrays, config, rng_state, goals)
+    except KeyError as exc:
+        raise InvalidArgumentError(f"incomplete babbling state (missing {exc})") from exc
+    except (TypeError, ValueError, OverflowError) as exc:
+        if isinstance(exc, InvalidArgumentError):
+            raise
+        raise InvalidArgumentError(f"inconsistent babbling state ({exc!r})") from exc
+    return st
+
+
+def _fill(
+    st: BabbleState, arrays: dict[str, Any], config: BabbleConfig, rng_state: Any, goals: GoalGenerator
+) -> None:
+    st.config = config
+    st.rng = _rng(rng_state)
+    st.chain = KinematicChain.from_arrays(arrays)
+    m, n = st.chain.n_joints, st.chain.n_task
+    st.home = _real(arrays, "home", (m,))
+    st.lower = _real(arrays, "lower", (m,), finite=False)
+    st.upper = _real(arrays, "upper", (m,), finite=False)
+    if np.any(np.isnan(st.lower)) or np.any(np.isnan(st.upper)) or np.any(st.lower > st.upper):
+        raise InvalidArgumentError("joint limits must satisfy lower <= upper")
+    N = np.shape(arrays["targets"])[0] if np.ndim(arrays["targets"]) == 2 else 0
+    st.targets = _real(arrays, "targets", (max(N, 1), n))
+    E = np.shape(arrays["eval_targets"])[0] if np.ndim(arrays["eval_targets"]) == 2 else 0
+    st.eval_targets = _real(arrays, "eval_targets", (max(E, 1), n))
+    T = np.shape(arrays["schedule"])[0] if np.ndim(arrays["schedule"]) == 1 else 0
+    st.schedule = _ints(arrays, "schedule", (max(T, 1),))
+    if np.any(np.diff(st.schedule) <= 0) or st.schedule[0] < 0:
+        raise InvalidArgumentError("schedule must be increasing movement counts >= 0")
+    st.errors = _real(arrays, "errors", (T,), finite=False)
+    st.distances = _real(arrays, "distances", (T,), finite=False)
+    K = np.shape(arrays["prototypes"])[0] if np.ndim(arrays["prototypes"]) == 2 else 0
+    st.llm = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate, capacity=max(2 * K, 256))
+    if st.llm.n_inputs_ != n or st.llm.n_outputs_ != m:
+        raise InvalidArgumentError(f"the map has {st.llm.n_outputs_} outputs and {st.llm.n_inputs_} inputs")
+    st.A = _real(arrays, "noise_A", (m, n))
+    st.b = _real(arrays, "noise_b", (m,))
+    st.vectors = {k: _real(arrays, k, (m,) if k.startswith("q") else (n,)) for k in st.VECTORS}
+    st.istate = _ints(arrays, "istate", (layout.ISTATE_SIZE,))
+    record = _ints(arrays, "record", (3,))
+    st.record = (int(record[0]), int(record[1]), int(record[2]))
+    R = np.shape(arrays["rec_step"])[0] if np.ndim(arrays["rec_step"]) == 1 else -1
+    rec = RecordedSteps.from_arrays(arrays, m, n)
+    if rec is None or R < 0:
+        raise InvalidArgumentError("the recording arrays are missing")
+    st.rec = {}
+    for key in RecordedSteps.FIELDS:
+        arr = getattr(rec, key)
+        grown = np.zeros((max(16, 2 * arr.shape[0]), *arr.shape[1:]), dtype=arr.dtype)
+        grown[: arr.shape[0]] = arr
+        st.rec[key] = grown
+    st.goals = goals
+    fresh = goals.start(st.targets)
+    if "goal_istate" in arrays:  # files of gb_pin 0.1 have none: the paper's uniform goals
+        gi = _ints(arrays, "goal_istate", fresh.istate.shape)
+        gf = _real(arrays, "goal_fstate", fresh.fstate.shape, finite=False)
+        st.goal_state = GoalArrays(fresh.kind, st.targets, gi, gf)
+    else:
+        st.goal_state = fresh
+    st.changes = []
+    if "change_movements" in arrays:
+        C = np.shape(arrays["change_movements"])[0] if np.ndim(arrays["change_movements"]) == 1 else 0
+        at = _ints(arrays, "change_movements", (max(C, 1),))
+        st.set_changes({int(a): KinematicChain.from_arrays(arrays, prefix=f"change{i}_chain_")
+                        for i, a in enumerate(at)})  # fmt: skip
+    _check_counters(st, K, R, T)
+
+
+def _check_counters(st: BabbleState, K: int, R: int, T: int) -> None:
+    """The counters must be consistent with the arrays they index (no out-of-bounds access)."""
+    i = st.istate
+    every, first, last = st.record
+    L = st.config.path_length
+    ok = (
+        i[layout.PROTOTYPES] == K
+        and i[layout.MOVEMENTS] >= 0
+        and 0 <= i[layout.STEP] <= L
+        and i[layout.KIND] in (layout.NONE, layout.GOAL, layout.HOME)
+        and i[layout.LAST_KIND] in (layout.NONE, layout.GOAL, layout.HOME)
+        and 0 <= i[layout.EVAL_CURSOR] <= T
+        and i[layout.STEPS] >= 0
+        and i[layout.RECORDED] == R
+        and every >= 1
+        and first >= 0
+        and (i[layout.KIND] != layout.NONE or i[layout.STEP] in (0, L))
+    )
+    if not ok:
+        raise InvalidArgumentError(f"babbling state counters out of range or inconsistent: {i.tolist()}")

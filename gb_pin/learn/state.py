@@ -1,0 +1,318 @@
+"""The complete, resumable state of a goal-babbling run, and the chunked calls of the compiled loop."""
+
+from __future__ import annotations
+
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import DivergenceError, InvalidArgumentError
+from gb_pin.learn import layout
+from gb_pin.learn.body.chain import KinematicChain
+from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.exploration import noise_init
+from gb_pin.learn.goals import GoalArrays, GoalGenerator, PythonGoals, make_goals
+from gb_pin.learn.history import History, RecordedSteps, Recording
+from gb_pin.learn.llm import LocalLinearMap
+from gb_pin.learn.loop import babble_loop
+from gb_pin.learn.metrics import evaluation_schedule
+
+
+class Kinematics(Protocol):
+    """What the learner needs from a robot (a :class:`~gb_pin.robot.target.KinematicTarget` is one)."""
+
+    @property
+    def chain(self) -> KinematicChain:
+        """Compiled forward kinematics of the task map."""
+
+    @property
+    def home(self) -> NDArray[np.float64]:
+        """Home posture q_home, (m,)."""
+
+    @property
+    def lower(self) -> NDArray[np.float64]:
+        """Lower joint limits (m,), -inf where unbounded."""
+
+    @property
+    def upper(self) -> NDArray[np.float64]:
+        """Upper joint limits (m,), +inf where unbounded."""
+
+
+class BabbleState:
+    """The complete state of a goal-babbling run: everything the compiled loop reads and writes.
+
+    Holding it in plain arrays makes a run resumable: :meth:`run` continues it, and
+    :meth:`to_arrays` / :meth:`from_arrays` (used by checkpoints) rebuild it exactly.
+    ``changes`` is the schedule of body changes: at movement r the chain becomes the given
+    one (same joints and task dimension), e.g. grown links or a tool.
+    """
+
+    VECTORS = ("q_prev", "q_start", "x_prev", "target_prev", "path_start", "path_end")
+    REC_DTYPES = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
+
+    def __init__(self) -> None:
+        self.rng: np.random.Generator
+        self.config: BabbleConfig
+        self.chain: KinematicChain
+        self.home: NDArray[np.float64]
+        self.lower: NDArray[np.float64]
+        self.upper: NDArray[np.float64]
+        self.targets: NDArray[np.float64]
+        self.eval_targets: NDArray[np.float64]
+        self.schedule: NDArray[np.int64]
+        self.errors: NDArray[np.float64]
+        self.distances: NDArray[np.float64]
+        self.llm: LocalLinearMap
+        self.A: NDArray[np.float64]
+        self.b: NDArray[np.float64]
+        self.vectors: dict[str, NDArray[np.float64]]
+        self.istate: NDArray[np.int64]
+        self.record: tuple[int, int, int]
+        self.rec: dict[str, NDArray[Any]]
+        self.goals: GoalGenerator
+        self.goal_state: GoalArrays
+        self.changes: list[tuple[int, KinematicChain]] = []
+
+    @classmethod
+    def start(
+        cls,
+        kinematics: Kinematics,
+        targets: ArrayLike,
+        movements: int,
+        config: BabbleConfig,
+        *,
+        seed: int | np.random.Generator = 0,
+        eval_targets: ArrayLike | None = None,
+        schedule: ArrayLike | None = None,
+        record: Recording | None = None,
+        goals: str | GoalGenerator | None = None,
+        changes: dict[int, Kinematics] | None = None,
+    ) -> BabbleState:
+        """A fresh run at movement 0: the estimate is the constant q_home (paper Sec. II)."""
+        movements = check.positive_int("movements", movements)
+        st = cls()
+        st.rng = check.generator(seed)
+        st.config = config
+        st.chain = kinematics.chain
+        m, n = st.chain.n_joints, st.chain.n_task
+        st.home = check.vector("home", kinematics.home, m)
+        st.lower = np.ascontiguousarray(kinematics.lower, dtype=float)
+        st.upper = np.ascontiguousarray(kinematics.upper, dtype=float)
+        st.targets = check.points("targets", targets, n)
+        st.eval_targets = (
+            st.targets if eval_targets is None else check.points("eval_targets", eval_targets, n)
+        )
+        st.schedule = _schedule(schedule, movements)
+        st.errors = np.full(st.schedule.shape[0], np.nan)
+        st.distances = np.full(st.schedule.shape[0], np.nan)
+        st.goals = make_goals(goals)
+        st.goal_state = st.goals.start(st.targets)
+        st.set_changes(changes or {})
+
+        x_home = st.chain.forward(st.home)
+        st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
+            x_home, st.home
+        )
+        st.A = np.empty((m, n))
+        st.b = np.empty(m)
+        noise_init(st.rng, config.sigma, st.A, st.b)
+        # The robot starts at rest at home: previous posture, position and target are home's.
+        st.vectors = {k: (st.home if k.startswith("q") else x_home).copy() for k in cls.VECTORS}
+        st.istate = np.zeros(layout.ISTATE_SIZE, dtype=np.int64)
+        st.istate[layout.KIND] = layout.NONE
+        st.istate[layout.LAST_KIND] = layout.NONE
+        st.istate[layout.PROTOTYPES] = 1
+        if record is None:
+            st.record = (1, 0, 0)
+            size = 0
+        else:
+            last = movements if record.last is None else min(record.last, movements)
+            st.record = (record.every, record.first, last)
+            size = max(0, (last - record.first) * config.path_length // record.every + 1)
+        st.rec = {k: np.zeros((size, m) if k == "posture" else (size, n) if k in ("target", "position")
+                              else size, dtype=d) for k, d in cls.REC_DTYPES.items()}  # fmt: skip
+        return st
+
+    def set_changes(self, changes: dict[int, Kinematics]) -> None:
+        """Schedule body changes ``{movement: robot}``: from movement r on, the robot's chain is used.
+
+        Raises:
+            InvalidArgumentError: a movement count < 1, or a chain of other joint or task dimensions.
+        """
+        out = []
+        for at, robot in sorted(dict(changes).items()):
+            at = check.positive_int("changes movement", at)
+            chain = getattr(robot, "chain", robot)
+            if not isinstance(chain, KinematicChain):
+                raise InvalidArgumentError(
+                    f"changes[{at}] must be a robot or a KinematicChain, got {robot!r}"
+                )
+            if (chain.n_joints, chain.n_task) != (self.chain.n_joints, self.chain.n_task):
+                raise InvalidArgumentError(
+                    f"changes[{at}] has {chain.n_joints} joints and {chain.n_task} task axes; the run has "
+                    f"{self.chain.n_joints} and {self.chain.n_task}"
+                )
+            out.append((at, chain))
+        self.changes = out
+
+    @property
+    def movements(self) -> int:
+        """Completed movements r."""
+        return int(self.istate[layout.MOVEMENTS])
+
+    @property
+    def steps(self) -> int:
+        """Completed time steps t."""
+        return int(self.istate[layout.STEPS])
+
+    @property
+    def posture(self) -> NDArray[np.float64]:
+        """The last executed posture q_t."""
+        return self.vectors["q_prev"]
+
+    @property
+    def position(self) -> NDArray[np.float64]:
+        """The last reached position x_t [m]."""
+        return self.vectors["x_prev"]
+
+    @property
+    def target(self) -> NDArray[np.float64]:
+        """The last goal-directed target x*_t [m]."""
+        return self.vectors["target_prev"]
+
+    def kernel_args(self) -> tuple[Any, ...]:
+        """(learner, robot, run, goals, monitor): the compiled loop's arguments, built in this one place."""
+        cfg = self.config
+        hyper = layout.Hyper(
+            float(cfg.learning_rate), float(cfg.sigma), float(cfg.sigma_delta), float(cfg.radius),
+            int(cfg.path_length), float(cfg.p_home),
+        )  # fmt: skip
+        m, n = self.home.shape[0], self.targets.shape[1]
+        v = self.vectors
+        motion = layout.Motion(*(v[k] for k in self.VECTORS), np.empty(m), np.empty(n), np.empty(n))
+        r = self.rec
+        recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
+        evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances)
+        return (
+            layout.Learner(hyper, self.llm.kernel(), layout.Noise(self.A, self.b)),
+            layout.Robot(layout.Limits(self.home, self.lower, self.upper), self.chain.kernel()),
+            layout.Run(motion, self.istate),
+            self.goal_state,
+            layout.Monitor(evaluation, recorder),
+        )
+
+    def run(self, stop: int) -> None:
+        """Run the compiled loop until ``stop`` movements are complete (body changes applied on the way).
+
+        Raises:
+            DivergenceError: a posture became non-finite.
+        """
+        while True:
+            self._apply_changes()
+            due = [at for at, _ in self.changes if at > self.movements]
+            until = min([stop, *due])
+            self._run_until(until)
+            if until >= stop:
+                self._apply_changes()
+                return
+
+    def _apply_changes(self) -> None:
+        for at, chain in self.changes:
+            if at <= self.movements:
+                self.chain = chain
+
+    def _run_until(self, stop: int) -> None:
+        args = self.kernel_args()
+        while True:
+            status = babble_loop(self.rng, stop, *args)
+            self.llm.set_count(int(self.istate[layout.PROTOTYPES]))
+            if status == layout.DONE:
+                return
+            if status == layout.NEED_CAPACITY:
+                self.llm.reserve(2 * self.llm.capacity)
+            elif status == layout.NEED_RECORD_CAPACITY:
+                grow = max(16, 2 * self.rec["step"].shape[0])
+                for key, arr in self.rec.items():
+                    bigger = np.zeros((grow, *arr.shape[1:]), dtype=arr.dtype)
+                    bigger[: arr.shape[0]] = arr
+                    self.rec[key] = bigger
+            elif status == layout.NEED_GOAL:
+                self._python_goal()
+                continue  # nothing was reallocated
+            else:
+                self._diverged()
+            args = self.kernel_args()
+
+    def _python_goal(self) -> None:
+        goals = self.goals
+        if not isinstance(goals, PythonGoals):
+            raise InvalidArgumentError(f"goal generator {goals!r} of kind {goals.kind} is not compiled")
+        goal = check.vector("the goal generator's goal", goals.next_goal(self.goal_state, self.rng),
+                            self.targets.shape[1])  # fmt: skip
+        self.vectors["path_end"][:] = goal
+
+    def _diverged(self) -> None:
+        cfg = self.config
+        reach = float(np.max(np.abs(self.targets)))
+        raise DivergenceError(
+            f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
+            f"a posture became non-finite or exceeded {layout.MAX_POSTURE:g}. Likely causes: "
+            f"learning_rate={cfg.learning_rate!r} too high (the paper uses 0.001-0.5), "
+            f"sigma={cfg.sigma!r} too large, or targets far outside the robot's reach "
+            f"(largest |coordinate| {reach:.3g} m)"
+        )
+
+    # -- checkpoints ------------------------------------------------------------
+    def to_arrays(self) -> dict[str, NDArray[Any]]:
+        """Every array of the state, trimmed to what is in use (for checkpoint files)."""
+        from gb_pin.learn.snapshot import state_to_arrays
+
+        return state_to_arrays(self)
+
+    def rng_state(self) -> dict[str, Any]:
+        """The random generator's bit-generator state (JSON-serialisable)."""
+        return dict(self.rng.bit_generator.state)
+
+    @classmethod
+    def from_arrays(
+        cls,
+        arrays: dict[str, NDArray[Any]],
+        config: BabbleConfig,
+        rng_state: dict[str, Any],
+        goals: str | GoalGenerator | None = None,
+    ) -> BabbleState:
+        """Rebuild a state written by :meth:`to_arrays` exactly (same numbers, same random stream).
+
+        Raises:
+            InvalidArgumentError: arrays missing, of inconsistent shapes or out of range.
+        """
+        from gb_pin.learn.snapshot import state_from_arrays
+
+        return state_from_arrays(cls(), arrays, config, rng_state, make_goals(goals))
+
+    def history(self) -> History:
+        """E^X and D^home at the schedule's movement counts (NaN where not reached yet)."""
+        return History(movements=self.schedule, error=self.errors, home_distance=self.distances)
+
+    def recorded(self) -> RecordedSteps | None:
+        """The recorded steps so far, or None if recording was not asked for."""
+        if self.record[2] <= self.record[1]:
+            return None
+        c = int(self.istate[layout.RECORDED])
+        return RecordedSteps(**{k: self.rec[k][:c].copy() for k in RecordedSteps.FIELDS})
+
+
+def _schedule(schedule: ArrayLike | None, movements: int) -> NDArray[np.int64]:
+    if schedule is None:
+        return evaluation_schedule(movements)
+    try:
+        at = np.unique(np.asarray(schedule, dtype=np.int64))
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InvalidArgumentError(f"schedule must be movement counts, got {schedule!r}") from exc
+    if at.ndim != 1 or at.size == 0 or at[0] < 0 or at[-1] > movements:
+        raise InvalidArgumentError(
+            f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"
+        )
+    return at
