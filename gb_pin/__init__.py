@@ -48,8 +48,8 @@ _EXPORTS: dict[str, str] = {
     "BabbleResult": "gb_pin.runs.result",
     "babble": "gb_pin.runs.api",
     "resume": "gb_pin.runs.api",
-    "load_result": "gb_pin.runs.results_file",
-    "save_result": "gb_pin.runs.results_file",
+    "load_result": "gb_pin.runs.result",
+    "save_result": "gb_pin.runs.result",
     "Condition": "gb_pin.experiments.trials",
     "Sweep": "gb_pin.experiments.trials",
     "TrialSet": "gb_pin.experiments.trials",
@@ -99,5 +99,4 @@ if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
     from gb_pin.robot.presets import RobotPreset, load_robot, robots
     from gb_pin.robot.target import KinematicTarget
     from gb_pin.runs.api import babble, resume
-    from gb_pin.runs.result import BabbleResult
-    from gb_pin.runs.results_file import load_result, save_result
+    from gb_pin.runs.result import BabbleResult, load_result, save_result

@@ -36,19 +36,30 @@ def _babble_or_own_error(**kwargs: Any) -> gb_pin.BabbleResult | None:
         return None
 
 
+# path_length is bounded: one movement runs path_length steps, so a draw of 10^6 would run
+# 2 * 10^6 steps (seconds) while testing nothing that 10^3 does not.
+bounded_path_length = st.one_of(
+    st.integers(min_value=-(10**6), max_value=1000), anything.filter(lambda v: not isinstance(v, int) or v <= 1000)
+)
+
+
 @FAST
 @given(
-    name=st.sampled_from(
-        ["learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home", "seed"]
-    ),
-    value=anything,
+    name=st.sampled_from(["learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home", "seed"]),
+    data=st.data(),
 )
-def test_babble_any_parameter_value_is_ok_or_own_error(name: str, value: Any) -> None:
-    """babble with any value of one parameter either runs or raises a GbPinError."""
-    result = _babble_or_own_error(robot="planar3", movements=2, **{name: value})
-    if result is not None:
-        assert np.all(np.isfinite(result.history.error))
-        assert np.all(np.isfinite(result.model.offsets_))
+def test_babble_any_parameter_value_is_ok_or_own_error(name: str, data: st.DataObject) -> None:
+    """babble with any value of one parameter either runs or raises a GbPinError naming it."""
+    value = data.draw(bounded_path_length if name == "path_length" else anything)
+    try:
+        result = gb_pin.babble(robot="planar3", movements=2, **{name: value})
+    except gb_pin.GbPinError as exc:
+        assert name in str(exc), f"the error for {name}={value!r} does not name it: {exc}"
+        return
+    assert np.all(np.isfinite(result.history.error))
+    assert np.all(np.isfinite(result.model.offsets_))
+    if name != "seed" and value is not None:
+        assert float(getattr(result.config, name)) == float(value)
 
 
 @FAST
@@ -58,9 +69,13 @@ def test_babble_any_robot_and_movements_is_ok_or_own_error(robot: Any, movements
     if isinstance(movements, int) and not isinstance(movements, bool) and movements > 3:
         movements = 3
     try:
-        gb_pin.babble(robot=robot, movements=movements)
+        res = gb_pin.babble(robot=robot, movements=movements)
     except gb_pin.InvalidArgumentError as exc:
-        assert isinstance(exc, ValueError)
+        message = str(exc)
+        assert "robot" in message or "movements" in message, message
+        return
+    assert isinstance(robot, str) and res.robot == robot
+    assert res.movements == movements and res.history.movements[-1] == movements
 
 
 @FAST
@@ -105,6 +120,7 @@ def test_any_targets_are_ok_or_own_error(targets: Any) -> None:
     except gb_pin.GbPinError:
         return
     if targets is None:  # the robot's own target set
+        np.testing.assert_array_equal(res.targets, gb_pin.load_robot("planar3").targets)
         return
     arr = np.asarray(targets, dtype=float)
     assert arr.ndim == 2 and arr.shape[1] == 2 and np.all(np.isfinite(arr))

@@ -67,7 +67,7 @@ def _real(
     arr = np.asarray(arrays[key])
     if arr.dtype.kind not in "fiu" or arr.shape != shape:
         raise InvalidArgumentError(f"{key} must be real of shape {shape}, got {arr.dtype} {arr.shape}")
-    out = np.ascontiguousarray(arr, dtype=np.float64)
+    out = np.array(arr, dtype=np.float64, order="C")  # a copy: the state owns its arrays
     if finite and not np.all(np.isfinite(out)):
         raise InvalidArgumentError(f"{key} must be finite")
     return out
@@ -77,7 +77,7 @@ def _ints(arrays: dict[str, Any], key: str, shape: tuple[int, ...]) -> NDArray[n
     arr = np.asarray(arrays[key])
     if arr.dtype.kind not in "iu" or arr.shape != shape:
         raise InvalidArgumentError(f"{key} must be integers of shape {shape}, got {arr.dtype} {arr.shape}")
-    return np.ascontiguousarray(arr, dtype=np.int64)
+    return np.array(arr, dtype=np.int64, order="C")
 
 
 def _rng(rng_state: Any) -> np.random.Generator:

@@ -260,7 +260,8 @@ class BabbleState:
             f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
             f"a posture became non-finite or exceeded {layout.MAX_POSTURE:g}. Likely causes: "
             f"learning_rate={cfg.learning_rate!r} too high (the paper uses 0.001-0.5), "
-            f"sigma={cfg.sigma!r} too large, or targets far outside the robot's reach "
+            f"sigma={cfg.sigma!r} too large, radius={cfg.radius!r} far too small (the paper uses 0.1 m), "
+            f"or targets far outside the robot's reach "
             f"(largest |coordinate| {reach:.3g} m)"
         )
 

@@ -12,6 +12,7 @@ from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.results_file import read_result, write_result
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,6 +66,30 @@ class BabbleResult:
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
-        from gb_pin.runs.results_file import save_result
+        write_result(self, path)
 
-        save_result(self, path)
+    @classmethod
+    def load(cls, path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
+        """Read a result written by :meth:`save` (see :func:`load_result`)."""
+        return cls(**read_result(path, target))
+
+
+def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
+    """Write ``result`` to ``path`` (an ``.npz`` archive of plain arrays and a JSON header).
+
+    The file is written to a temporary name, flushed and renamed, so a crash never leaves half a file.
+    """
+    write_result(result, path)
+
+
+def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
+    """Read a result written by :func:`save_result`.
+
+    Args:
+        path: the ``.npz`` file.
+        target: the robot, needed only for results of a custom (non-preset) target.
+
+    Raises:
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+    """
+    return BabbleResult.load(path, target)

@@ -1,8 +1,9 @@
-"""Save and load results as one ``.npz`` file, read with ``allow_pickle=False``."""
+"""The result file: one ``.npz`` of plain arrays and a JSON header, read with ``allow_pickle=False``."""
 
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -13,7 +14,9 @@ from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs.archive import atomic_savez, read_archive
-from gb_pin.runs.result import BabbleResult
+
+if TYPE_CHECKING:
+    from gb_pin.runs.result import BabbleResult
 
 FORMAT = "gb_pin.result"
 FORMAT_VERSION = 1
@@ -29,7 +32,7 @@ _KEYS = (
 )
 
 
-def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
+def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     """Write ``result`` to ``path`` (an ``.npz`` archive of plain arrays and a JSON header).
 
     The file is written to a temporary name, flushed and renamed, so a crash never leaves half a file.
@@ -64,8 +67,8 @@ def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     )
 
 
-def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
-    """Read a result written by :func:`save_result`.
+def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = None) -> dict[str, Any]:
+    """The fields of a :class:`~gb_pin.runs.result.BabbleResult` written by :func:`write_result`.
 
     Args:
         path: the ``.npz`` file.
@@ -101,7 +104,7 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             error=arrays["error"].astype(float),
             home_distance=arrays["home_distance"].astype(float),
         )
-        return BabbleResult(
+        return dict(
             target=target,
             targets=arrays["targets"].astype(float),
             history=history,
