@@ -25,7 +25,7 @@ from gb_pin.runs.api import warmup
 def main() -> None:
     """Babble, report E^X and D^home, then reach new targets and check them on the full model."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    humanoid = [p.name for p in gb_pin.robot.presets() if p.kind == "humanoid arm"]
+    humanoid = [p.name for p in gb_pin.robots() if p.kind == "humanoid arm"]
     parser.add_argument("--robot", default="talos_left_arm", choices=humanoid, help="a humanoid-arm preset")
     parser.add_argument("--movements", type=int, default=3000, help="movements (default 3000)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")

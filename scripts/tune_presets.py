@@ -109,7 +109,7 @@ def measure(
 def main(argv: Sequence[str] | None = None) -> None:
     """Print the two tables for the chosen presets."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    spatial = [p.name for p in gb_pin.robot.presets() if p.source == "example-robot-data"]
+    spatial = [p.name for p in gb_pin.robots() if p.source == "example-robot-data"]
     parser.add_argument("--robots", default=",".join(spatial), help="comma-separated presets")
     parser.add_argument("--seeds", type=int, default=5, help="seeds per measurement (default 5)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")

@@ -1,9 +1,11 @@
-"""The gb-pin command line: babble, bench, robots, and clean errors for bad input."""
+"""The gb-pin command line: babble, bench, robots, clean errors for bad input, options and imports."""
 
 from __future__ import annotations
 
+import ast
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -60,3 +62,94 @@ def test_bad_input_exits_2_without_traceback(argv, needle) -> None:  # type: ign
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert needle in proc.stderr
+
+
+@pytest.mark.parametrize("command", ["babble", "trials"])
+def test_learner_options_come_from_the_hyperparameter_table(command: str, capsys) -> None:  # type: ignore[no-untyped-def]
+    """Each hyperparameter is an option of babble and trials: its name, type and help, default None."""
+    from gb_pin.cli import build_parser
+    from gb_pin.learn.config import HYPERPARAMETERS
+
+    with pytest.raises(SystemExit) as exit_:
+        main([command, "--help"])
+    assert exit_.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    defaults = build_parser().parse_args([command])
+    for h in HYPERPARAMETERS:
+        assert h.option in text and " ".join(h.help.split()) in text
+        assert getattr(defaults, h.name) is None
+        value = getattr(build_parser().parse_args([command, h.option, "3"]), h.name)
+        assert type(value) is h.type and value == 3
+
+
+def test_learner_options_reach_babble(capsys) -> None:  # type: ignore[no-untyped-def]
+    """--path-length goes on to babble(): 10 movements of 5 steps."""
+    assert main(["babble", "--robot", "planar3", "--movements", "10", "--path-length", "5", "--quiet"]) == 0
+    assert "10 (50 steps)" in capsys.readouterr().out
+
+
+def test_learner_options_reach_run_trials(monkeypatch, capsys) -> None:  # type: ignore[no-untyped-def]
+    """trials passes on the learner options given (and only those) by their table names."""
+    from gb_pin.exceptions import InvalidArgumentError
+    from gb_pin.experiments import trials
+
+    seen: dict[str, object] = {}
+
+    def fake_run_trials(**kwargs: object) -> None:
+        seen.update(kwargs)
+        raise InvalidArgumentError("stop here")
+
+    monkeypatch.setattr(trials, "run_trials", fake_run_trials)
+    argv = ["trials", "--robot", "planar3", "--learning-rate", "0.2", "--path-length", "7", "--p-home", "0"]
+    assert main(argv) == 2
+    assert "gb-pin: error: stop here" in capsys.readouterr().err
+    assert {k: seen[k] for k in ("learning_rate", "path_length", "p_home")} == {
+        "learning_rate": 0.2,
+        "path_length": 7,
+        "p_home": 0.0,
+    }
+    assert not {"sigma", "sigma_delta", "radius"} & set(seen)
+
+
+def test_help_is_cheap() -> None:
+    """`gb-pin --help` imports neither numba nor pinocchio (commands import what they run when run)."""
+    code = (
+        "import sys\n"
+        "from gb_pin.cli import main\n"
+        "try:\n    main(['--help'])\nexcept SystemExit as exc:\n    assert exc.code == 0\n"
+        "heavy = {'numba', 'pinocchio', 'gb_pin.learn.state'} & set(sys.modules)\n"
+        "assert not heavy, heavy\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "babble" in proc.stdout
+
+
+def _imports(path: Path) -> set[str]:
+    """Modules imported anywhere in ``path``, inside functions and TYPE_CHECKING blocks included."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            found.add(node.module)
+            found.update(f"{node.module}.{a.name}" for a in node.names)
+        elif isinstance(node, ast.Import):
+            found.update(a.name for a in node.names)
+    return found
+
+
+def test_cli_imports_go_one_way() -> None:
+    """__init__ -> parser -> commands -> options; nothing outside gb_pin/cli imports gb_pin.cli."""
+    package = Path(gb_pin.__file__).parent
+    cli = package / "cli"
+    commands = {"babble", "bench", "reproduce", "robots", "trials", "viewing"}
+    allowed = {"__init__": {"parser"}, "parser": {*commands, "options"}, "options": set()}
+    for path in sorted(cli.glob("*.py")):
+        if path.stem == "__main__":
+            continue  # `python -m gb_pin.cli`: from gb_pin.cli import main
+        imported = _imports(path)
+        assert "gb_pin.cli" not in imported, f"{path.name} imports through gb_pin/cli/__init__.py"
+        inner = {m.removeprefix("gb_pin.cli.").split(".")[0] for m in imported if m.startswith("gb_pin.cli.")}
+        assert inner <= allowed.get(path.stem, {"options"}), (path.name, inner)
+    for path in package.rglob("*.py"):
+        if cli not in path.parents:
+            assert not any(m.startswith("gb_pin.cli") for m in _imports(path)), path

@@ -24,7 +24,7 @@ import pytest
 import gb_pin
 from gb_pin import KinematicTarget, Recording, load_robot, robots
 from gb_pin.robot.models import DESCRIPTIONS, example_robot_data_dir
-from gb_pin.robot.targets_auto import check_reachable, sampling_bounds
+from gb_pin.robot.reachability import check_reachable, sampling_bounds
 
 ATOL = 1e-12  # [m]
 

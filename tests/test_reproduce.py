@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import ast
 import json
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -11,6 +13,10 @@ import pytest
 import gb_pin
 from gb_pin import reproduce as rp
 from gb_pin.cli import main
+from gb_pin.exceptions import GbPinError
+from gb_pin.reproduce import cache, paper
+
+PACKAGE = pathlib.Path(rp.__file__).parent
 
 pytest.importorskip("matplotlib")
 
@@ -59,7 +65,7 @@ def test_numbers_follow_from_the_trials(small) -> None:  # type: ignore[no-untyp
         seed=0,
         workers=1,
         learning_rate=0.1,
-        schedule=rp._schedule(120, 120),
+        schedule=rp.schedule(120, 120),
     )
     curve = result.numbers["fig4"]["curves"]["0.1"]
     assert curve["median_error_at_100"] == pytest.approx(float(np.median(ts.error[:, 100])), rel=1e-12)
@@ -82,7 +88,7 @@ def test_cached_trials_are_reused(small, monkeypatch) -> None:  # type: ignore[n
     def no_sweep(*args, **kwargs):  # type: ignore[no-untyped-def]
         raise AssertionError("trials were run again")
 
-    monkeypatch.setattr(rp, "run_sweep", no_sweep)
+    monkeypatch.setattr(cache, "run_sweep", no_sweep)
     again = rp.reproduce(["fig7"], out=str(out), trials=3, movements=120)
     assert again.numbers["fig7"] == result.numbers["fig7"]
     assert (out / "trials" / ".gitignore").read_text().strip().endswith("*")
@@ -133,3 +139,92 @@ def test_cli_reproduce_and_bad_figure_names(tmp_path, capsys) -> None:  # type: 
     err = capsys.readouterr().err
     assert "fig9" in err and "fig4" in err
     assert main(["reproduce", "fig4", "--movements", "50", "--out", str(out)]) == 2
+
+
+def test_paper_numbers_are_data_and_fill_the_table(small) -> None:  # type: ignore[no-untyped-def]
+    """paper.toml holds the paper's numbers once; the table's paper and range columns are read from it."""
+    _out, result = small
+    assert rp.MEDIAN_LEVEL == 0.04
+    expected = {"e100": 0.04, "first_median_le_004": 2000, "speedup": 20, "s50_eta05": 34}
+    expected |= {"s50_m50": 128, "s90_m50": 364}
+    assert {k: rp.PAPER[k].value for k in expected} == expected
+    assert (rp.PAPER["e100"].paper, rp.PAPER["e100"].range) == ("≈ 0.04", "[0.03, 0.055]")
+    assert (rp.PAPER["s90_m50"].paper, rp.PAPER["s90_m50"].range) == ("364", "≤ 500")
+    assert rp.PAPER["s50_m50"].accepts(95) and not rp.PAPER["s50_m50"].accepts(176)
+    assert not rp.PAPER["s50_m50"].accepts(None)
+    rows = rp.paper_table(result.numbers)
+    claims = [c for c in rp.PAPER.values() if c.figure in result.numbers]
+    assert [[r[0], r[1], r[3]] for r in rows] == [[c.quantity, c.paper, c.range] for c in claims]
+    m50 = result.numbers["fig8"]["rows"][-1]["speed"]["0.5"]
+    row = rows[[c.id for c in claims].index("s50_m50")]
+    assert row[4] == ("no" if m50 is None else "yes" if 95 <= m50 <= 175 else "**no**")
+
+
+def test_malformed_paper_numbers_are_refused() -> None:
+    """A claim with an unknown key, a missing level or a repeated id raises GbPinError naming the file."""
+    good = 'median_level = 0.04\n[[claim]]\nid = "a"\nfigure = "fig4"\nquantity = "q"\nsource = "s"\n'
+    level, claims = paper.load(good)
+    assert level == 0.04 and claims["a"].paper == "" and not claims["a"].bounded
+    for bad in (
+        good + "colour = 1\n",
+        good.replace("median_level = 0.04", ""),
+        good + good.split("\n", 1)[1],
+    ):
+        with pytest.raises(GbPinError, match=r"paper\.toml"):
+            paper.load(bad)
+
+
+def _imports(path: pathlib.Path) -> set[str]:
+    """Every module a file imports, at the top or inside functions."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            found.add(node.module)
+            found |= {f"{node.module}.{a.name}" for a in node.names}
+    return found
+
+
+def test_submodules_form_no_import_cycle_and_only_figures_imports_matplotlib() -> None:
+    """The modules of gb_pin.reproduce import each other without a cycle; only figures.py names matplotlib."""
+    modules = {p.stem: _imports(p) for p in PACKAGE.glob("*.py") if p.stem != "__init__"}
+    graph = {m: {d for d in modules if f"gb_pin.reproduce.{d}" in imports} for m, imports in modules.items()}
+    assert all("gb_pin.reproduce" not in imports for imports in modules.values())  # never the package itself
+    done: set[str] = set()
+
+    def visit(m: str, path: tuple[str, ...]) -> None:
+        assert m not in path, f"import cycle: {' -> '.join((*path, m))}"
+        if m not in done:
+            for d in graph[m]:
+                visit(d, (*path, m))
+            done.add(m)
+
+    for m in graph:
+        visit(m, ())
+    assert [m for m, imports in modules.items() if any(i.startswith("matplotlib") for i in imports)] == [
+        "figures"
+    ]
+
+
+def test_nothing_but_the_cli_imports_reproduce() -> None:
+    """gb_pin.reproduce sits on top: no other sub-package of gb_pin imports it (the CLI calls it)."""
+    root = PACKAGE.parent
+    users = [
+        str(p.relative_to(root))
+        for p in root.rglob("*.py")
+        if PACKAGE not in p.parents
+        and any(i == "gb_pin.reproduce" or i.startswith("gb_pin.reproduce.") for i in _imports(p))
+    ]
+    assert users and all(u.startswith("cli" + os.sep) for u in users), users
+
+
+def test_files_are_written_atomically() -> None:
+    """No module of the reproduction opens a file for writing: every write goes through gb_pin._files."""
+    for p in PACKAGE.glob("*.py"):
+        text = p.read_text(encoding="utf-8")
+        assert "os.replace" not in text and ".tmp" not in text, p.name
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "open":
+                modes = [a.value for a in node.args[1:2] if isinstance(a, ast.Constant)]
+                assert not any("w" in str(m) or "a" in str(m) for m in modes), p.name

@@ -20,6 +20,7 @@ from gb_pin import (
     planar_home,
     robots,
 )
+from gb_pin.learn.config import NAMES
 from gb_pin.robot.presets import _load_preset, _read_preset, format_presets
 
 EPS = np.finfo(float).eps
@@ -235,6 +236,9 @@ def test_urdf_preset_loads_with_auto_targets() -> None:
         (("auto = true\nshape = [2, 2, 2]", "spacing = 0.1"), r"\[targets\] must be"),
         (('home = "ready"', "home = [0.1, 0.2]"), "home has 2 values for 4 joints"),
         (("radius = 0.05", "radius = 0.05\nalpha = 1"), r"unknown learner keys \['alpha'\]"),
+        (("radius = 0.05", "radius = -0.05"), r"\[learner\] radius must be a positive .*got -0\.05"),
+        (("radius = 0.05", "path_length = 2.5"), r"\[learner\] path_length must be an integer .*got 2\.5"),
+        (("radius = 0.05", "p_home = 1.5"), r"\[learner\] p_home must be a probability .*got 1\.5"),
         (("[learner]", "[learner"), "malformed robot preset"),
     ],
 )
@@ -245,3 +249,14 @@ def test_malformed_presets_raise(change: tuple[str, str], message: str) -> None:
     with pytest.raises(InvalidArgumentError, match=message) as info:
         _read_preset(text.replace(change[0], change[1]), "broken.toml")
     assert "broken.toml" in str(info.value)
+
+
+def test_preset_learner_keys_are_the_hyperparameter_table() -> None:
+    """[learner] tables take exactly the names of gb_pin.learn.config.NAMES; values come back validated."""
+    table = "\n".join(f"{k} = {v}" for k, v in zip(NAMES, (0.2, 0.01, 0.001, 0.05, 30, 0.2), strict=True))
+    text = URDF_PRESET.format(urdf=DATA / "small_arm.urdf", srdf=DATA / "small_arm.srdf")
+    preset = _read_preset(text.replace("radius = 0.05", table), "all.toml")
+    assert list(preset.learner) == list(NAMES)
+    assert preset.learner["path_length"] == 30 and isinstance(preset.learner["path_length"], int)
+    for p in robots():
+        assert set(p.learner) <= set(NAMES)

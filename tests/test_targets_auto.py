@@ -1,4 +1,4 @@
-"""Tests of gb_pin.robot.targets_auto: reachability, the "auto" grid, the beyond-reach bound, target specs.
+"""Tests of gb_pin.robot.reachability and targets_auto: reachability, the beyond-reach bound, "auto", specs.
 
 Reachability is checked by seeded sampling and a projected descent.
 
@@ -8,8 +8,10 @@ postures; the 1e-4 m tolerance is the module's TOLERANCE (a reached point is clo
 
 from __future__ import annotations
 
+import ast
 import math
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,18 +20,17 @@ import pytest
 
 from gb_pin import InvalidArgumentError, KinematicTarget, load_robot, planar_chain
 from gb_pin.exceptions import UnreachableTargetWarning
-from gb_pin.robot.targets_auto import (
+from gb_pin.learn.body.chain import KinematicChain
+from gb_pin.robot.grids import grid_targets, regular_grid
+from gb_pin.robot.reachability import (
     TOLERANCE,
     _solve_small,
-    auto_grid,
     beyond_reach,
     check_reachable,
-    grid_targets,
-    regular_grid,
-    resolve_targets,
     sample_positions,
     sampling_bounds,
 )
+from gb_pin.robot.targets_auto import auto_grid, resolve_targets
 
 DATA = Path(__file__).parent / "data"
 
@@ -249,3 +250,65 @@ def test_resolve_targets_warns_about_points_beyond_reach() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         resolve_targets([target.home_position], target)
+
+
+@dataclass(frozen=True)
+class BareRobot:
+    """Just what the reachability checks need: no KinematicTarget, no Pinocchio model."""
+
+    chain: KinematicChain
+    home: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+def test_reachability_and_auto_grid_work_on_any_robot() -> None:
+    """check_reachable, sample_positions and auto_grid take anything with chain, home, lower, upper."""
+    target = limited_planar(3)
+    bare = BareRobot(target.chain, target.home, target.lower, target.upper)
+    np.testing.assert_array_equal(
+        auto_grid(bare, resolution=0.01).targets, auto_grid(target, resolution=0.01).targets
+    )
+    points = target.forward(target.home)[None, :] + np.array([[0.01, 0.0], [2.0, 0.0]])
+    np.testing.assert_array_equal(check_reachable(bare, points).reachable, [True, False])
+    np.testing.assert_array_equal(sample_positions(bare, 50)[1], sample_positions(target, 50)[1])
+
+
+def _robot_imports() -> dict[str, set[str]]:
+    """Modules of gb_pin.robot each module imports, anywhere in the file (inside functions too)."""
+    root = Path(__file__).parent.parent / "gb_pin" / "robot"
+    graph: dict[str, set[str]] = {}
+    for path in sorted(root.glob("*.py")):
+        found: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                found |= {node.module, *(f"{node.module}.{a.name}" for a in node.names)}
+            elif isinstance(node, ast.Import):
+                found |= {a.name for a in node.names}
+        graph[path.stem] = found
+    return graph
+
+
+def test_robot_imports_are_one_way() -> None:
+    """No import cycle in gb_pin.robot; reachability and targets_auto never import target (nor pinocchio)."""
+    graph = _robot_imports()
+    inner = {
+        m: {d.split(".")[2] for d in deps if d.startswith("gb_pin.robot.")} & set(graph)
+        for m, deps in graph.items()
+    }
+    for module in ("reachability", "targets_auto"):
+        assert "target" not in inner[module]
+        assert "pinocchio" not in graph[module]
+    done: set[str] = set()
+
+    def visit(module: str, path: tuple[str, ...]) -> None:
+        assert module not in path, f"import cycle {' -> '.join((*path, module))}"
+        if module not in done:
+            for dep in inner[module]:
+                visit(dep, (*path, module))
+            done.add(module)
+
+    for module in inner:
+        visit(module, ())
+    upper = ("gb_pin.runs", "gb_pin.experiments", "gb_pin.viewer", "gb_pin.cli", "gb_pin.reproduce")
+    assert not {(m, d) for m, deps in graph.items() for d in deps if d.startswith(upper)}

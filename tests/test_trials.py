@@ -220,12 +220,12 @@ def test_local_runs_import_neither_dask_nor_matplotlib() -> None:
 
 def test_journal_skips_finished_trials_and_gives_the_same_result(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """With checkpoint=, an interrupted run_trials resumes: finished trials are read, not recomputed."""
-    import gb_pin.experiments.trials as trials_module
+    import gb_pin.experiments.execute as execute_module
 
     path = tmp_path / "trials.jsonl"
     full = gb_pin.run_trials("planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3)
     calls: list[int] = []
-    real = trials_module.run_one_trial
+    real = execute_module.run_one_trial
 
     def crashing(robot, movements, seed, schedule, kwargs):  # type: ignore[no-untyped-def]
         if len(calls) == 3:
@@ -233,7 +233,7 @@ def test_journal_skips_finished_trials_and_gives_the_same_result(tmp_path, monke
         calls.append(seed)
         return real(robot, movements, seed, schedule, kwargs)
 
-    monkeypatch.setattr(trials_module, "run_one_trial", crashing)
+    monkeypatch.setattr(execute_module, "run_one_trial", crashing)
     with pytest.raises(KeyboardInterrupt):
         gb_pin.run_trials(
             "planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3, checkpoint=path
@@ -243,7 +243,7 @@ def test_journal_skips_finished_trials_and_gives_the_same_result(tmp_path, monke
     with open(path, "a") as fh:
         fh.write('{"key": "half a line')
     calls.clear()
-    monkeypatch.setattr(trials_module, "run_one_trial", lambda *a: (calls.append(a[2]), real(*a))[1])
+    monkeypatch.setattr(execute_module, "run_one_trial", lambda *a: (calls.append(a[2]), real(*a))[1])
     resumed = gb_pin.run_trials(
         "planar3", trials=5, movements=12, seed=2, workers=1, learning_rate=0.3, checkpoint=path
     )
@@ -262,3 +262,41 @@ def test_journal_refuses_a_foreign_file(tmp_path) -> None:  # type: ignore[no-un
     path.write_text("hello\n")
     with pytest.raises(gb_pin.ResultFileError, match=r"notes\.txt"):
         gb_pin.run_trials("planar3", trials=2, movements=5, workers=1, checkpoint=path)
+
+
+def test_babble_args_are_the_hyperparameter_table() -> None:
+    """Trials take exactly the learner's hyperparameters; the old import paths still work."""
+    from gb_pin.experiments import trials
+    from gb_pin.learn.config import NAMES
+
+    assert trials.BABBLE_ARGS == NAMES
+    assert set(NAMES) == {"learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home"}
+    for name in (
+        "run_trials",
+        "run_sweep",
+        "TrialSet",
+        "Condition",
+        "Sweep",
+        "conditions_grid",
+        "TrialJournal",
+    ):
+        assert getattr(trials, name) is getattr(gb_pin.experiments, name)
+    assert trials.run_trials is gb_pin.run_trials and trials.TrialSet is gb_pin.TrialSet
+
+
+def test_files_are_written_whole(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Saving a trial set or sweep, and dropping a journal's torn line, leave no temporary file."""
+    path = tmp_path / "journal.jsonl"
+    ts = gb_pin.run_trials("planar2", trials=2, movements=3, workers=1, checkpoint=path)
+    lines = path.read_text().splitlines()
+    assert json.loads(lines[0]) == {"format": "gb_pin.trial-journal", "format_version": 1}
+    assert len(lines) == 3
+    with open(path, "a") as fh:
+        fh.write('{"key": "torn')
+    again = gb_pin.run_trials("planar2", trials=2, movements=3, workers=1, checkpoint=path)
+    np.testing.assert_array_equal(again.error, ts.error)
+    assert path.read_text().splitlines() == lines
+    ts.save(tmp_path / "t.json")
+    gb_pin.Sweep(conditions=(gb_pin.Condition("planar2"),), results=(ts,)).save(tmp_path / "s.json")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["journal.jsonl", "s.json", "t.json"]
+    assert json.loads((tmp_path / "t.json").read_text())["format"] == "gb_pin.trials"

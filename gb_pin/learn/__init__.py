@@ -12,36 +12,62 @@ meshcat, matplotlib nor dask:
 - :mod:`~gb_pin.learn.body`: compiled forward kinematics and the task map;
 - :mod:`~gb_pin.learn.loop`: the compiled loop (Eqs. 1-3, 7), its arguments in :mod:`~gb_pin.learn.layout`;
 - :mod:`~gb_pin.learn.state`, :mod:`~gb_pin.learn.learner`: the resumable state and :class:`GoalBabbling`;
+- :mod:`~gb_pin.learn.snapshot`: the state as validated plain arrays (checkpoints);
 - :mod:`~gb_pin.learn.metrics`: E^X, D^home, S(Q, e) (Eqs. 9-11).
+
+The names below are exported lazily (PEP 562): ``gb_pin.learn.config`` alone loads no compiler.
 """
 
-from gb_pin.learn.body import FramePosition, KinematicChain, TaskMap
-from gb_pin.learn.config import HYPERPARAMETERS, BabbleConfig, default_sigma
-from gb_pin.learn.goals import CyclicGoals, GoalGenerator, PythonGoals, UniformGoals
-from gb_pin.learn.history import History, RecordedSteps, Recording
-from gb_pin.learn.learner import GoalBabbling
-from gb_pin.learn.llm import LocalLinearMap
-from gb_pin.learn.metrics import evaluation_schedule, speed
-from gb_pin.learn.state import BabbleState, Kinematics
+from __future__ import annotations
 
-__all__ = [
-    "HYPERPARAMETERS",
-    "BabbleConfig",
-    "BabbleState",
-    "CyclicGoals",
-    "FramePosition",
-    "GoalBabbling",
-    "GoalGenerator",
-    "History",
-    "KinematicChain",
-    "Kinematics",
-    "LocalLinearMap",
-    "PythonGoals",
-    "RecordedSteps",
-    "Recording",
-    "TaskMap",
-    "UniformGoals",
-    "default_sigma",
-    "evaluation_schedule",
-    "speed",
-]
+import importlib
+from typing import TYPE_CHECKING, Any
+
+_EXPORTS: dict[str, str] = {
+    "FramePosition": "gb_pin.learn.body",
+    "KinematicChain": "gb_pin.learn.body",
+    "TaskMap": "gb_pin.learn.body",
+    "HYPERPARAMETERS": "gb_pin.learn.config",
+    "BabbleConfig": "gb_pin.learn.config",
+    "default_sigma": "gb_pin.learn.config",
+    "CyclicGoals": "gb_pin.learn.goals",
+    "GoalGenerator": "gb_pin.learn.goals",
+    "PythonGoals": "gb_pin.learn.goals",
+    "UniformGoals": "gb_pin.learn.goals",
+    "History": "gb_pin.learn.history",
+    "RecordedSteps": "gb_pin.learn.history",
+    "Recording": "gb_pin.learn.history",
+    "GoalBabbling": "gb_pin.learn.learner",
+    "LocalLinearMap": "gb_pin.learn.llm",
+    "evaluation_schedule": "gb_pin.learn.metrics",
+    "speed": "gb_pin.learn.metrics",
+    "BabbleState": "gb_pin.learn.state",
+    "Kinematics": "gb_pin.learn.state",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    """Import the module defining a public name on first use (PEP 562)."""
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gb_pin.learn' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})
+
+
+if TYPE_CHECKING:
+    from gb_pin.learn.body import FramePosition, KinematicChain, TaskMap
+    from gb_pin.learn.config import HYPERPARAMETERS, BabbleConfig, default_sigma
+    from gb_pin.learn.goals import CyclicGoals, GoalGenerator, PythonGoals, UniformGoals
+    from gb_pin.learn.history import History, RecordedSteps, Recording
+    from gb_pin.learn.learner import GoalBabbling
+    from gb_pin.learn.llm import LocalLinearMap
+    from gb_pin.learn.metrics import evaluation_schedule, speed
+    from gb_pin.learn.state import BabbleState, Kinematics

@@ -75,7 +75,7 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
             return NOT_FINITE
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
     """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10)."""
     counters = run.counters
@@ -94,7 +94,7 @@ def _evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-d
     counters[EVAL_CURSOR] = c
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
     """Choose the next movement: a home return (Eq. 7) or a goal-directed path (Eq. 3).
 
@@ -116,7 +116,7 @@ def _begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
     return next_goal(goals, rng, mo.path_end)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _step(rng, learner, robot, run, rec, recording):  # type: ignore[no-untyped-def]
     """One time step: posture, forward kinematics, weights, learning, noise walk; False if it diverged."""
     counters = run.counters
@@ -177,7 +177,7 @@ def _step(rng, learner, robot, run, rec, recording):  # type: ignore[no-untyped-
     return True
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _record(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-def]
     """Write this step to the recording buffers (target NaN during home returns)."""
     c = counters[RECORDED]

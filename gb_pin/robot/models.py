@@ -13,7 +13,6 @@ the visual geometry on demand, for viewers.
 
 from __future__ import annotations
 
-import difflib
 import importlib.metadata
 import os
 import sys
@@ -22,6 +21,7 @@ from pathlib import Path
 
 import pinocchio as pin
 
+from gb_pin._names import closest
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
 
 _SHARE = ("share", "example-robot-data", "robots")
@@ -251,7 +251,7 @@ def describe(name: str) -> RobotDescription:
     if isinstance(name, str) and name in DESCRIPTIONS:
         return DESCRIPTIONS[name]
     valid = sorted(DESCRIPTIONS)
-    close = difflib.get_close_matches(str(name), valid, n=5, cutoff=0.5)
+    close = closest(name, valid)
     hint = f"closest: {', '.join(close)}; " if close else ""
     raise UnknownRobotError(f"unknown example-robot-data robot {name!r}; {hint}valid: {', '.join(valid)}")
 

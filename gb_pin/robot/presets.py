@@ -28,7 +28,6 @@ A preset file (one per robot, installed as the package ``gb_pin.presets``)::
 
 from __future__ import annotations
 
-import difflib
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -40,7 +39,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin import _validation as check
+from gb_pin._names import closest
 from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
+from gb_pin.learn.config import NAMES, check_values
 from gb_pin.robot.grids import grid_targets
 from gb_pin.robot.planar import planar_chain, planar_home
 from gb_pin.robot.target import KinematicTarget
@@ -56,7 +57,6 @@ __all__ = [
     "robots",
 ]
 
-_LEARNER_KEYS = ("learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home")
 _SOURCES = ("planar", "example-robot-data", "urdf")
 _COMMON_KEYS = ("name", "source", "description", "kind", "frame", "axes", "home", "targets", "learner")
 _SOURCE_KEYS = {
@@ -78,8 +78,9 @@ class RobotPreset:
         axes: task axes seen by the learner.
         targets: the target set (N, n) [m] where the file gives a grid or points;
             None for ``auto`` targets (computed when the robot loads).
-        learner: per-robot learner defaults (keys among ``learning_rate``, ``sigma``,
-            ``sigma_delta``, ``radius``, ``path_length``, ``p_home``).
+        learner: per-robot learner defaults, validated (keys among
+            :data:`gb_pin.learn.config.NAMES`: ``learning_rate``, ``sigma``, ``sigma_delta``,
+            ``radius``, ``path_length``, ``p_home``).
         options: the remaining entries of the file (e.g. ``total_length``).
         joints: the joints the learner moves (empty for the planar family).
         home: the home posture over ``joints``, a reference configuration name, or
@@ -131,6 +132,16 @@ class RobotPreset:
         return self.source
 
 
+def _read_learner(table: Any) -> dict[str, Any]:
+    """The ``[learner]`` table, checked by :func:`gb_pin.learn.config.check_values` (names and values)."""
+    if not isinstance(table, dict):
+        raise InvalidArgumentError(f"[learner] must be a table of {', '.join(NAMES)}, got {table!r}")
+    try:
+        return check_values({str(k): v for k, v in table.items()}, what="learner keys")
+    except InvalidArgumentError as exc:
+        raise InvalidArgumentError(f"[learner] {exc}") from exc
+
+
 def _read_preset(text: str, filename: str) -> RobotPreset:
     try:
         raw = tomllib.loads(text)
@@ -155,12 +166,7 @@ def _read_preset(text: str, filename: str) -> RobotPreset:
                     f"got {sorted(spec)}"
                 )
             targets = grid_targets(spec["lower"], spec["upper"], spec["shape"])
-        learner = {str(k): v for k, v in raw.pop("learner", {}).items()}
-        unknown = set(learner) - set(_LEARNER_KEYS)
-        if unknown:
-            raise InvalidArgumentError(
-                f"unknown learner keys {sorted(unknown)}; valid: {list(_LEARNER_KEYS)}"
-            )
+        learner = _read_learner(raw.pop("learner", {}))
         name = str(raw.pop("name"))
         frame = str(raw.pop("frame"))
         axes = str(raw.pop("axes", "xyz"))
@@ -247,8 +253,7 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
     if name in presets and presets[name].source != "planar":
         return presets[name], None
     candidates = [p.name if p.source != "planar" else f"{p.name}5" for p in presets.values()]
-    close = difflib.get_close_matches(name, [*valid, *candidates], n=3, cutoff=0.5)
-    close = list(dict.fromkeys(c for c in close if c in candidates or c in valid))
+    close = list(dict.fromkeys(closest(name, [*valid, *candidates], n=3)))
     hint = f"; did you mean {', '.join(close)}?" if close else ";"
     raise UnknownRobotError(f"unknown robot {name!r}{hint} valid presets: {', '.join(valid)} (N >= 2)")
 

@@ -11,80 +11,33 @@ A target is built from any ``pin.Model`` (:class:`KinematicTarget`), a URDF file
 (:meth:`KinematicTarget.from_example_robot_data`). Positions are always world
 coordinates of the full model (locked joints at the reference posture) on the
 chosen axes [m].
+
+Construction reads the model in steps, each in its own module: the reference posture
+and the home (:mod:`gb_pin.robot.postures`), the moved joints and the reduced model
+(:mod:`gb_pin.robot.reduction`), joint kinds, limits and the learner's chain
+(:mod:`gb_pin.robot.chain_reader`), the target set (:mod:`gb_pin.robot.targets_auto`).
 """
 
 from __future__ import annotations
 
-import difflib
 import os
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError, UnreachableTargetWarning
-from gb_pin.learn.body.chain import PRISMATIC, REVOLUTE, KinematicChain
+from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnreachableTargetWarning
+from gb_pin.learn.body.chain import KinematicChain
+from gb_pin.robot.chain_reader import JointTable, parse_axes, read_chain, read_joints, read_limits
 from gb_pin.robot.models import build_visual_model, load_example_robot, load_urdf_model
-from gb_pin.robot.targets_auto import auto_grid, beyond_reach, resolve_targets
-
-_AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
-_UNIT = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
-# Pinocchio reports "no limit" as +-max double; anything this large is unbounded.
-_UNBOUNDED = 1e300
-
-
-def _closest(name: str, valid: Sequence[str]) -> str:
-    close = difflib.get_close_matches(name, valid, n=5, cutoff=0.5)
-    if close:
-        return "closest: " + ", ".join(close)
-    shown = ", ".join(list(valid)[:20])
-    return f"valid: {shown}" + (", ..." if len(valid) > 20 else "")
-
-
-def _reference_configurations(model: pin.Model) -> dict[str, NDArray[np.float64]]:
-    """The model's named reference configurations (e.g. ``half_sitting`` from an SRDF)."""
-    return {e.key(): np.array(e.data(), dtype=float) for e in model.referenceConfigurations}
-
-
-def _joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float], bool]:
-    """(kind, axis, continuous) of a 1-DOF joint model, or raise for other joint types."""
-    short = joint.shortname()
-    suffix = short.removeprefix("JointModel")
-    if suffix in ("RX", "RY", "RZ"):
-        return REVOLUTE, _UNIT[suffix[1]], False
-    if suffix in ("RUBX", "RUBY", "RUBZ"):
-        return REVOLUTE, _UNIT[suffix[3]], True
-    if suffix in ("PX", "PY", "PZ"):
-        return PRISMATIC, _UNIT[suffix[1]], False
-    if suffix in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned", "PrismaticUnaligned"):
-        axis = np.asarray(joint.extract().axis, dtype=float)
-        if abs(np.linalg.norm(axis) - 1.0) > 1e-9:
-            raise InvalidArgumentError(
-                f"joint {name!r} has axis {axis.tolist()} of norm {np.linalg.norm(axis):.6g}; "
-                "gb_pin needs unit joint axes (normalise it in the model)"
-            )
-        kind = PRISMATIC if suffix.startswith("Prismatic") else REVOLUTE
-        return kind, (float(axis[0]), float(axis[1]), float(axis[2])), "Unbounded" in suffix
-    if suffix == "FreeFlyer":
-        raise InvalidArgumentError(
-            f"joint {name!r} is a free floating base ({short}); the learner moves only revolute, "
-            "continuous and prismatic joints: leave it out of `joints` so that it is locked at the "
-            "reference posture"
-        )
-    raise InvalidArgumentError(
-        f"joint {name!r} is a {short}; the learner moves only revolute, continuous and "
-        "prismatic joints: lock it (leave it out of `joints`)"
-    )
-
-
-TargetSpec = ArrayLike | str | Mapping[str, Any] | None
-"""A target set: an (N, n) array [m], ``"auto"``, a grid spec or an explicit-points spec (see
-:func:`gb_pin.robot.targets_auto.resolve_targets`)."""
+from gb_pin.robot.postures import home_posture, reference_posture, to_configuration
+from gb_pin.robot.reachability import beyond_reach
+from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
+from gb_pin.robot.targets_auto import TargetSpec, auto_grid, resolve_targets
 
 
 class KinematicTarget:
@@ -135,102 +88,36 @@ class KinematicTarget:
     ) -> None:
         if not isinstance(model, pin.Model):
             raise InvalidArgumentError(f"model must be a pinocchio.Model, got {type(model).__name__}")
-        self.name = name if name is not None else (model.name or "robot")
-        full_names = list(model.names)[1:]
-        reference = self._reference_posture(model)
-
-        if joints is None:
-            floating = [
-                n
-                for n in full_names
-                if model.joints[model.getJointId(n)].shortname() == "JointModelFreeFlyer"
-            ]
-            if floating:
-                movable = [n for n in full_names if model.joints[model.getJointId(n)].nv == 1]
-                raise InvalidArgumentError(
-                    f"model {self.name!r} has a free floating base {floating[0]!r}, which joints=None would "
-                    "leave unlocked: name the joints the learner moves (the base is then locked at the "
-                    f"reference posture), e.g. joints={movable[:7]!r}"
-                )
-            joints = full_names
-        if isinstance(joints, str) or not all(isinstance(j, str) for j in joints):
-            raise InvalidArgumentError(f"joints must be a sequence of joint names, got {joints!r}")
-        joints = list(joints)
-        if not joints:
-            raise InvalidArgumentError("joints must name at least one joint, got []")
-        if len(set(joints)) != len(joints):
-            raise InvalidArgumentError(f"joints must not repeat a name, got {joints!r}")
-        for j in joints:
-            if j not in full_names:
-                raise UnknownRobotError(
-                    f"unknown joint {j!r} in model {self.name!r}; {_closest(j, full_names)}"
-                )
-        for j in joints:  # a clear error before buildReducedModel sees an odd joint
-            _joint_kind(model.joints[model.getJointId(j)], j)
-        locked = [model.getJointId(n) for n in full_names if n not in joints]
-        if locked:
-            # buildReducedModel needs a JOINT frame on every joint; hand-built models may lack them.
-            source = pin.Model(model)
-            framed = {f.parentJoint for f in source.frames if f.type == pin.FrameType.JOINT}
-            for jid in range(1, source.njoints):
-                if jid not in framed:
-                    source.addJointFrame(jid)
-            try:
-                reduced = pin.buildReducedModel(source, locked, reference)
-            except (ValueError, RuntimeError) as exc:
-                raise InvalidArgumentError(
-                    f"cannot lock joints {[n for n in full_names if n not in joints]} of {self.name!r}: "
-                    f"pinocchio.buildReducedModel failed ({exc}); give every joint its frame "
-                    "(Model.addJointFrame) before adding other frames"
-                ) from exc
-        else:
-            reduced = pin.Model(model)
-
-        if not isinstance(frame, str) or not reduced.existFrame(frame):
-            frame_names = [f.name for f in reduced.frames]
-            raise UnknownRobotError(
-                f"unknown frame {frame!r} in model {self.name!r}; {_closest(str(frame), frame_names)}"
-            )
-        self.model = reduced
-        self.data = reduced.createData()
-        self.full_model = pin.Model(model)
-        self.reference: NDArray[np.float64] = reference
-        self.frame = frame
-        self.frame_id = int(reduced.getFrameId(frame))
-        self.joints: tuple[str, ...] = tuple(joints)
-        self.axes = self._parse_axes(axes)
+        self.name: str = name if name is not None else (model.name or "robot")
+        self.reference: NDArray[np.float64] = reference_posture(model)
+        self.joints: tuple[str, ...] = tuple(select_joints(model, joints, self.name))
+        self.model: pin.Model = lock_joints(model, self.joints, self.reference, self.name)
+        self.frame_id: int = find_frame(self.model, frame, self.name)
+        self.frame: str = frame
+        self.data: pin.Data = self.model.createData()
+        self.full_model: pin.Model = pin.Model(model)
+        self.axes: str = parse_axes(axes)
         self._urdf: str | None = None
         self._package_dirs: list[str] | None = None
         self._auto: NDArray[np.float64] | None = None
-
-        self._kinds: list[int] = []
-        self._continuous: list[bool] = []
-        order = [reduced.getJointId(j) for j in joints]  # Pinocchio joint ids in q order
-        axes_arr = np.zeros((len(joints), 3))
-        for a, jid in enumerate(order):
-            kind, axis, continuous = _joint_kind(reduced.joints[jid], reduced.names[jid])
-            self._kinds.append(kind)
-            self._continuous.append(continuous)
-            axes_arr[a] = axis
-        self._order = order
-        self._axes_arr = axes_arr
-        lower = np.full(len(joints), -np.inf)
-        upper = np.full(len(joints), np.inf)
-        for a, jid in enumerate(order):
-            if self._continuous[a]:
-                continue
-            iq = reduced.joints[jid].idx_q
-            lo, hi = reduced.lowerPositionLimit[iq], reduced.upperPositionLimit[iq]
-            lower[a] = lo if lo > -_UNBOUNDED else -np.inf
-            upper[a] = hi if hi < _UNBOUNDED else np.inf
-        self.lower: NDArray[np.float64] = lower
-        self.upper: NDArray[np.float64] = upper
-        self._q_ref = pin.neutral(reduced)
-        self.chain = self._build_chain()
-        self.home: NDArray[np.float64] = self._parse_home(home, model, reference)
+        self._read_kinematics()
+        limits = (self.lower, self.upper)
+        self.home: NDArray[np.float64] = home_posture(
+            home, model, self.reference, self.joints, self._table.continuous, limits, self.name
+        )
         self.targets: NDArray[np.float64] | None = (
             None if targets is None else resolve_targets(targets, self, what="targets")
         )
+
+    def _read_kinematics(self) -> None:
+        """The learner's view of the reduced model: joint kinds and axes, limits, the chain."""
+        self._table: JointTable = read_joints(self.model, self.joints)
+        self._full_ids = tuple(int(self.full_model.getJointId(j)) for j in self.joints)
+        self._q_ref: NDArray[np.float64] = pin.neutral(self.model)
+        limits = read_limits(self.model, self._table)
+        self.lower: NDArray[np.float64] = limits[0]
+        self.upper: NDArray[np.float64] = limits[1]
+        self.chain: KinematicChain = read_chain(self.model, self._table, self.frame_id, self.axes)
 
     # -- other constructors ---------------------------------------------------------
     @classmethod
@@ -321,112 +208,6 @@ class KinematicTarget:
         target._urdf = str(urdf)
         return target
 
-    # -- construction helpers -------------------------------------------------
-    @staticmethod
-    def _reference_posture(model: pin.Model) -> NDArray[np.float64]:
-        refs = _reference_configurations(model)
-        if "half_sitting" in refs:
-            return np.array(refs["half_sitting"], dtype=float)
-        if len(refs) == 1:
-            return np.array(next(iter(refs.values())), dtype=float)
-        return np.array(pin.neutral(model), dtype=float)
-
-    @staticmethod
-    def _parse_axes(axes: str | None) -> str:
-        axes = "xyz" if axes is None else axes
-        if (
-            not isinstance(axes, str)
-            or not axes
-            or len(set(axes)) != len(axes)
-            or any(c not in _AXIS_INDEX for c in axes)
-        ):
-            raise InvalidArgumentError(
-                f"axes must be distinct letters from 'xyz' (e.g. 'xy', 'xz', 'xyz'), got {axes!r}"
-            )
-        return axes
-
-    def _build_chain(self) -> KinematicChain:
-        """Read joint placements, axes and the frame placement from the reduced model."""
-        model = self.model
-        position_in_q = {jid: a for a, jid in enumerate(self._order)}
-        by_model_order = sorted(self._order)  # Pinocchio numbers parents before children
-        index = {jid: i for i, jid in enumerate(by_model_order)}
-        m = len(by_model_order)
-        parents = np.full(m, -1, dtype=np.int64)
-        rotations = np.zeros((m, 3, 3))
-        translations = np.zeros((m, 3))
-        axes = np.zeros((m, 3))
-        kinds = np.zeros(m, dtype=np.int64)
-        q_index = np.zeros(m, dtype=np.int64)
-        for i, jid in enumerate(by_model_order):
-            parent = model.parents[jid]
-            parents[i] = index.get(parent, -1)
-            placement = model.jointPlacements[jid]
-            rotations[i] = placement.rotation
-            translations[i] = placement.translation
-            a = position_in_q[jid]
-            axes[i] = self._axes_arr[a]
-            kinds[i] = self._kinds[a]
-            q_index[i] = a
-        frame = model.frames[self.frame_id]
-        frame_parent = index.get(frame.parentJoint, -1)
-        frame_translation = np.array(frame.placement.translation, dtype=float)
-        if frame_parent < 0 and frame.parentJoint != 0:
-            # Cannot happen after buildReducedModel (every kept joint is moved), but keep the chain honest.
-            raise GbPinError(f"frame {self.frame!r} hangs on a joint that is neither moved nor the world")
-        return KinematicChain(
-            parents=parents,
-            rotations=rotations,
-            translations=translations,
-            axes=axes,
-            kinds=kinds,
-            q_index=q_index,
-            frame_parent=frame_parent,
-            frame_translation=frame_translation,
-            task_axes=np.array([_AXIS_INDEX[c] for c in self.axes], dtype=np.int64),
-        )
-
-    def _parse_home(
-        self, home: ArrayLike | str | None, full_model: pin.Model, reference: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        if home is None:
-            q_full = reference
-        elif isinstance(home, str):
-            refs = _reference_configurations(full_model)
-            if home not in refs:
-                raise InvalidArgumentError(
-                    f"home {home!r} is not a reference configuration of {self.name!r}; "
-                    f"valid: {sorted(refs) or 'none (give an array)'}"
-                )
-            q_full = np.array(refs[home], dtype=float)
-        else:
-            try:
-                q = check.vector("home", home, self.n_joints)
-            except InvalidArgumentError as exc:
-                raise InvalidArgumentError(
-                    f"{exc}: one value per joint of `joints` ({', '.join(self.joints)})"
-                ) from exc
-            self._check_within_limits(q)
-            return q
-        q = np.empty(self.n_joints)
-        for a, name in enumerate(self.joints):
-            jid = full_model.getJointId(name)
-            iq = full_model.joints[jid].idx_q
-            if self._continuous[a]:
-                q[a] = np.arctan2(q_full[iq + 1], q_full[iq])
-            else:
-                q[a] = q_full[iq]
-        self._check_within_limits(q)
-        return q
-
-    def _check_within_limits(self, q: NDArray[np.float64]) -> None:
-        bad = np.flatnonzero((q < self.lower) | (q > self.upper))
-        if bad.size:
-            detail = ", ".join(
-                f"{self.joints[i]}={q[i]:.4g} not in [{self.lower[i]:.4g}, {self.upper[i]:.4g}]" for i in bad
-            )
-            raise InvalidArgumentError(f"home posture outside the joint limits: {detail}")
-
     # -- public API ---------------------------------------------------------------
     @property
     def n_joints(self) -> int:
@@ -446,14 +227,7 @@ class KinematicTarget:
     def to_pinocchio(self, q: ArrayLike) -> NDArray[np.float64]:
         """Configuration vector of the reduced Pinocchio model for posture ``q`` (m,)."""
         q = np.asarray(q, dtype=float)
-        q_pin = self._q_ref.copy()
-        for a, jid in enumerate(self._order):
-            iq = self.model.joints[jid].idx_q
-            if self._continuous[a]:
-                q_pin[iq], q_pin[iq + 1] = np.cos(q[a]), np.sin(q[a])
-            else:
-                q_pin[iq] = q[a]
-        return q_pin
+        return to_configuration(q, self.model, self._table.order, self._table.continuous, self._q_ref)
 
     def full_configuration(self, q: ArrayLike) -> NDArray[np.float64]:
         """Configuration of the *full* model: posture ``q`` (m,) on ``joints``, the rest at the reference.
@@ -461,14 +235,7 @@ class KinematicTarget:
         This is what a viewer displays, and what checks against the full model use.
         """
         q = check.vector("q", q, self.n_joints)
-        q_full = self.reference.copy()
-        for a, name in enumerate(self.joints):
-            iq = self.full_model.joints[self.full_model.getJointId(name)].idx_q
-            if self._continuous[a]:
-                q_full[iq], q_full[iq + 1] = np.cos(q[a]), np.sin(q[a])
-            else:
-                q_full[iq] = q[a]
-        return q_full
+        return to_configuration(q, self.full_model, self._full_ids, self._table.continuous, self.reference)
 
     def clip(self, q: ArrayLike) -> NDArray[np.float64]:
         """Posture(s) clipped to the joint limits: what the robot executes."""
@@ -519,7 +286,7 @@ class KinematicTarget:
         joint than the sum of the link lengths (plus the prismatic strokes) is
         certainly unreachable (:class:`~gb_pin.exceptions.UnreachableTargetWarning`);
         a point within that ball may still be unreachable (joint limits, the body).
-        Use :func:`gb_pin.robot.targets_auto.check_reachable` for a full check.
+        Use :func:`gb_pin.robot.reachability.check_reachable` for a full check.
 
         Raises:
             InvalidArgumentError: wrong shape or non-finite values.

@@ -1,24 +1,15 @@
-"""Reachable target sets: seeded posture sampling, local refinement, and the ``"auto"`` grid.
+"""Target sets of a robot: the ``"auto"`` grid and target specs (arrays, grids, points, auto).
 
-A point x* on the task axes is *reachable* if some posture within the joint limits
-puts the frame there. gb_pin checks it the way a user would by hand, but seeded so
-that the answer is the same every time:
+The ``"auto"`` target set is the largest regular grid (``shape``, default 3 per task
+axis) centred on the home effector position whose points all pass
+:func:`~gb_pin.robot.reachability.check_reachable`. :func:`resolve_targets` turns a
+target spec (a constructor argument or a preset file's ``[targets]`` table) into points.
 
-1. sample postures uniformly within the joint limits (``[-pi, pi]`` for an
-   unbounded revolute joint, ``[-1, 1]`` m for an unbounded prismatic one) and
-   compute their positions with the compiled forward kinematics;
-2. from the few sampled postures whose positions lie closest to x*, run a damped
-   least-squares (Levenberg-Marquardt) descent on ||x* - f(q)||, the posture clipped
-   to the limits after every update (a projected method: it never leaves the limits);
-3. x* is reachable if one of these descents ends within ``tolerance`` of it.
-
-A success is a proof (the posture is returned); a failure is evidence only: a point
-reachable through a narrow region that no sample came near can be missed. The
-``"auto"`` target set is the largest regular grid (``shape``, default 3 per task axis)
-centred on the home effector position whose points all pass this check.
-
-This module imports neither pinocchio nor meshcat: it works on the
-:class:`~gb_pin.learn.body.chain.KinematicChain` of any robot.
+This module imports neither pinocchio nor meshcat, nor the robot class: it works on
+anything with a chain, a home posture and joint limits
+(:class:`~gb_pin.robot.reachability.Robot`); :func:`resolve_targets` also needs the
+robot's target checks (:class:`TargetRobot`). The reachability checks are re-exported
+here (``check_reachable``, ``beyond_reach``, ...), where they used to live.
 """
 
 from __future__ import annotations
@@ -26,244 +17,65 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import Any, Protocol
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.learn.body.chain import PRISMATIC, KinematicChain, body_forward
 from gb_pin.robot.grids import grid_shape, grid_targets, regular_grid
+from gb_pin.robot.reachability import (
+    SAMPLES,
+    TOLERANCE,
+    Reachability,
+    Robot,
+    beyond_reach,
+    check_reachable,
+    sample_positions,
+    sampling_bounds,
+)
 
-if TYPE_CHECKING:
-    from gb_pin.robot.target import KinematicTarget
+__all__ = [
+    "SAMPLES",
+    "TOLERANCE",
+    "AutoGrid",
+    "Reachability",
+    "Robot",
+    "TargetRobot",
+    "TargetSpec",
+    "auto_grid",
+    "beyond_reach",
+    "check_reachable",
+    "grid_targets",
+    "regular_grid",
+    "resolve_targets",
+    "sample_positions",
+    "sampling_bounds",
+]
 
-SAMPLES = 20000  # postures sampled per check (about 5 ms of forward kinematics for 7 joints)
-STARTS = 8  # descents started from the sampled postures closest to each point
-ITERATIONS = 200  # damped least-squares iterations per descent
-TOLERANCE = 1e-4  # a point is reached when the frame is this close [m]
-_FD_STEP = 1e-7  # finite-difference step of the Jacobian [rad] or [m]
-_UNBOUNDED_PRISMATIC = 1.0  # sampling range of an unbounded prismatic joint [m]
+
+TargetSpec = ArrayLike | str | Mapping[str, Any] | None
+"""A target set: an (N, n) array [m], ``"auto"``, a grid spec or an explicit-points spec (see
+:func:`resolve_targets`)."""
 
 
-class _Robot(Protocol):
+class TargetRobot(Robot, Protocol):
+    """What :func:`resolve_targets` needs of a robot (a :class:`~gb_pin.robot.target.KinematicTarget`)."""
+
     @property
-    def chain(self) -> KinematicChain: ...
+    def n_task(self) -> int:
+        """Task dimension n."""
 
     @property
-    def home(self) -> NDArray[np.float64]: ...
+    def axes(self) -> str:
+        """The task axes, e.g. ``"xyz"``."""
 
-    @property
-    def lower(self) -> NDArray[np.float64]: ...
+    def auto_targets(self) -> NDArray[np.float64]:
+        """The ``"auto"`` target set (N, n) [m] (:func:`auto_grid` with its defaults, cached)."""
 
-    @property
-    def upper(self) -> NDArray[np.float64]: ...
-
-
-@dataclass(frozen=True, eq=False)
-class Reachability:
-    """Outcome of :func:`check_reachable`.
-
-    Attributes:
-        reachable: (N,) bool, whether a posture within the limits reaches each point.
-        postures: (N, m) the best posture found for each point (within the limits).
-        residual: (N,) distance from each point to the frame at that posture [m].
-    """
-
-    reachable: NDArray[np.bool_]
-    postures: NDArray[np.float64]
-    residual: NDArray[np.float64]
-
-
-@njit(cache=True, nogil=True)
-def _positions(Q, body, out):  # type: ignore[no-untyped-def]
-    """Frame positions of every posture row of Q (N, m) into out (N, n)."""
-    for r in range(Q.shape[0]):
-        body_forward(Q[r], body, out[r])
-
-
-@njit(cache=True, nogil=True)
-def _solve_small(A, b, x):  # type: ignore[no-untyped-def]
-    """Solve A x = b for a small symmetric positive definite A (n <= 3) by Gaussian elimination."""
-    n = b.shape[0]
-    M = A.copy()
-    v = b.copy()
-    for c in range(n):
-        p = c
-        for r in range(c + 1, n):
-            if abs(M[r, c]) > abs(M[p, c]):
-                p = r
-        if p != c:
-            for k in range(n):
-                M[c, k], M[p, k] = M[p, k], M[c, k]
-            v[c], v[p] = v[p], v[c]
-        for r in range(c + 1, n):
-            f = M[r, c] / M[c, c]
-            for k in range(c, n):
-                M[r, k] -= f * M[c, k]
-            v[r] -= f * v[c]
-    for c in range(n - 1, -1, -1):
-        s = v[c]
-        for k in range(c + 1, n):
-            s -= M[c, k] * x[k]
-        x[c] = s / M[c, c]
-
-
-@njit(cache=True, nogil=True)
-def _descend(target, q, bounds, body, iterations, tolerance):  # type: ignore[no-untyped-def]
-    """Projected Levenberg-Marquardt on ||target - f(q)|| from q (modified in place); returns the residual.
-
-    ``bounds`` is (lower, upper), the joint limits (m,) each.
-    """
-    lower, upper = bounds
-    m = q.shape[0]
-    n = target.shape[0]
-    x = np.empty(n)
-    xp = np.empty(n)
-    e = np.empty(n)
-    J = np.empty((n, m))
-    JJ = np.empty((n, n))
-    y = np.empty(n)
-    trial = np.empty(m)
-    xt = np.empty(n)
-    body_forward(q, body, x)
-    err = 0.0
-    for j in range(n):
-        e[j] = target[j] - x[j]
-        err += e[j] * e[j]
-    err = math.sqrt(err)
-    damping = 1e-2
-    for _ in range(iterations):
-        if err < tolerance:
-            break
-        for i in range(m):
-            keep = q[i]
-            q[i] = keep + 1e-7
-            body_forward(q, body, xp)
-            q[i] = keep
-            for j in range(n):
-                J[j, i] = (xp[j] - x[j]) / 1e-7
-        improved = False
-        for _attempt in range(8):
-            for a in range(n):
-                for b in range(n):
-                    s = 0.0
-                    for i in range(m):
-                        s += J[a, i] * J[b, i]
-                    JJ[a, b] = s
-                JJ[a, a] += damping * damping
-            _solve_small(JJ, e, y)
-            for i in range(m):
-                s = 0.0
-                for j in range(n):
-                    s += J[j, i] * y[j]
-                trial[i] = min(max(q[i] + s, lower[i]), upper[i])
-            body_forward(trial, body, xt)
-            new = 0.0
-            for j in range(n):
-                d = target[j] - xt[j]
-                new += d * d
-            new = math.sqrt(new)
-            if new < err:
-                for i in range(m):
-                    q[i] = trial[i]
-                for j in range(n):
-                    x[j] = xt[j]
-                    e[j] = target[j] - xt[j]
-                err = new
-                damping = max(damping * 0.3, 1e-6)
-                improved = True
-                break
-            damping *= 4.0
-        if not improved:
-            break
-    return err
-
-
-@njit(cache=True, nogil=True)
-def _reach_all(points, starts, bounds, body, iterations, tolerance, best_q, residual):  # type: ignore[no-untyped-def]
-    """For each point, descend from its start postures (points, S, m); keep the best posture and residual."""
-    m = bounds[0].shape[0]
-    q = np.empty(m)
-    for p in range(points.shape[0]):
-        residual[p] = np.inf
-        for s in range(starts.shape[1]):
-            for i in range(m):
-                q[i] = starts[p, s, i]
-            err = _descend(points[p], q, bounds, body, iterations, tolerance)
-            if err < residual[p]:
-                residual[p] = err
-                for i in range(m):
-                    best_q[p, i] = q[i]
-            if err < tolerance:
-                break
-
-
-def sampling_bounds(robot: _Robot) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Per-joint sampling interval: the joint limits, ``[-pi, pi]`` or ``[-1, 1]`` m where unbounded."""
-    kinds = np.asarray(robot.chain.kinds)
-    order = np.empty_like(kinds)
-    order[np.asarray(robot.chain.q_index)] = kinds  # kinds in the order of q
-    free = np.where(order == PRISMATIC, _UNBOUNDED_PRISMATIC, math.pi)
-    lower = np.where(np.isfinite(robot.lower), robot.lower, -free)
-    upper = np.where(np.isfinite(robot.upper), robot.upper, free)
-    return lower.astype(float), upper.astype(float)
-
-
-def sample_positions(
-    robot: _Robot, samples: int = SAMPLES, seed: int | np.random.Generator = 0
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Uniform postures within the limits and their frame positions: (samples, m), (samples, n) [m]."""
-    samples = check.positive_int("samples", samples)
-    rng = check.generator(seed)
-    lo, hi = sampling_bounds(robot)
-    Q = lo + (hi - lo) * rng.random((samples, lo.shape[0]))
-    X = np.empty((samples, robot.chain.n_task))
-    _positions(Q, robot.chain.kernel(), X)
-    return Q, X
-
-
-def check_reachable(
-    robot: _Robot,
-    points: ArrayLike,
-    *,
-    seed: int | np.random.Generator = 0,
-    samples: int = SAMPLES,
-    tolerance: float = TOLERANCE,
-    sampled: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
-) -> Reachability:
-    """Which points a posture within the joint limits reaches (see the module docstring).
-
-    Args:
-        robot: a :class:`~gb_pin.robot.target.KinematicTarget` (chain, home, lower, upper).
-        points: (N, n) points on the robot's task axes [m].
-        seed: seed of the posture sampling; same seed, same answer.
-        samples: postures sampled.
-        tolerance: a point counts as reached when the frame is this close [m].
-        sampled: postures and positions from :func:`sample_positions`, to reuse them.
-
-    Returns:
-        A :class:`Reachability` (per point: reachable, best posture, residual).
-    """
-    chain = robot.chain
-    X = check.points("points", points, chain.n_task)
-    tolerance = check.positive_float("tolerance", tolerance)
-    Q, P = sample_positions(robot, samples, seed) if sampled is None else sampled
-    lower = np.ascontiguousarray(robot.lower, dtype=float)
-    upper = np.ascontiguousarray(robot.upper, dtype=float)
-    count = min(STARTS, Q.shape[0])
-    # The home posture first (it is inside the limits), then the nearest samples.
-    d2 = ((X[:, None, :] - P[None, :, :]) ** 2).sum(axis=2)
-    nearest = np.argsort(d2, axis=1)[:, : count - 1]
-    starts = np.empty((X.shape[0], count, Q.shape[1]))
-    starts[:, 0] = np.clip(robot.home, lower, upper)
-    starts[:, 1:] = Q[nearest]
-    best = np.empty((X.shape[0], Q.shape[1]))
-    residual = np.empty(X.shape[0])
-    _reach_all(X, starts, (lower, upper), chain.kernel(), ITERATIONS, tolerance, best, residual)
-    return Reachability(reachable=residual < tolerance, postures=best, residual=residual)
+    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
+        """Explicit targets (N, n) [m] validated; a warning for those beyond the arm's reach."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -294,7 +106,7 @@ class AutoGrid:
 
 
 def auto_grid(
-    robot: _Robot,
+    robot: Robot,
     shape: Sequence[int] | None = None,
     *,
     seed: int = 0,
@@ -311,7 +123,8 @@ def auto_grid(
     border.
 
     Args:
-        robot: a :class:`~gb_pin.robot.target.KinematicTarget`.
+        robot: anything with chain, home, lower and upper, e.g. a
+            :class:`~gb_pin.robot.target.KinematicTarget`.
         shape: points per task axis; default 3 per axis (27 points in 3-D).
         seed: seed of the posture sampling.
         samples: postures sampled.
@@ -354,56 +167,10 @@ def auto_grid(
     return AutoGrid(targets=regular_grid(center, h, counts), center=center, half_width=h, shape=counts)
 
 
-def beyond_reach(
-    chain: KinematicChain, lower: ArrayLike, upper: ArrayLike, points: ArrayLike
-) -> NDArray[np.bool_]:
-    """Which points are certainly unreachable: farther from the chain's fixed root than the arm's length.
-
-    The root is the first moved joint on the path from the world to the frame (it
-    does not move); the length bound is the sum of the joint-to-joint and
-    joint-to-frame distances on that path plus the stroke of every prismatic joint
-    on it. Distances on a subset of the axes are at most the 3-D distances, so the
-    test holds for any task axes. Infinite strokes give no bound (nothing flagged).
-
-    Args:
-        chain: the robot's compiled kinematics.
-        lower: (m,) lower joint limits.
-        upper: (m,) upper joint limits.
-        points: (N, n) points on the chain's task axes [m].
-
-    Returns:
-        (N,) bool, True where the point is farther than the bound.
-    """
-    X = np.atleast_2d(np.asarray(points, dtype=float))
-    lo = np.asarray(lower, dtype=float)
-    hi = np.asarray(upper, dtype=float)
-    path = []
-    j = int(chain.frame_parent)
-    while j >= 0:
-        path.append(j)
-        j = int(chain.parents[j])
-    if not path:
-        root = np.asarray(chain.frame_translation, dtype=float)
-        bound = 0.0
-    else:
-        root = np.asarray(chain.translations[path[-1]], dtype=float)
-        bound = float(np.linalg.norm(chain.frame_translation))
-        bound += sum(float(np.linalg.norm(chain.translations[i])) for i in path[:-1])
-        for i in path:
-            if chain.kinds[i] == PRISMATIC:
-                a = int(chain.q_index[i])
-                bound += max(abs(lo[a]), abs(hi[a]))
-    if not math.isfinite(bound):
-        return np.zeros(X.shape[0], dtype=bool)
-    with np.errstate(over="ignore", invalid="ignore"):  # absurdly far points: an inf distance, flagged
-        distance = np.linalg.norm(X - root[np.asarray(chain.task_axes)], axis=1)
-    return np.asarray(distance > bound * (1.0 + 1e-9) + 1e-9)
-
-
 _SPEC_KEYS = ("lower", "upper", "shape", "points", "auto", "scale", "seed")
 
 
-def resolve_targets(spec: Any, robot: KinematicTarget, what: str = "targets") -> NDArray[np.float64]:
+def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDArray[np.float64]:
     """A target set from its description (constructor argument or preset file).
 
     Args:
@@ -411,7 +178,8 @@ def resolve_targets(spec: Any, robot: KinematicTarget, what: str = "targets") ->
             ``{"lower": [...], "upper": [...], "shape": [...]}``, explicit points
             ``{"points": [[...], ...]}``, or ``{"auto": True}`` with optional
             ``shape`` (points per axis), ``scale`` and ``seed`` (see :func:`auto_grid`).
-        robot: the :class:`~gb_pin.robot.target.KinematicTarget` the targets are for.
+        robot: the robot the targets are for (:class:`TargetRobot`), e.g. a
+            :class:`~gb_pin.robot.target.KinematicTarget`.
         what: the argument's name in messages.
 
     Returns:

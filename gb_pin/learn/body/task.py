@@ -73,14 +73,14 @@ class FramePosition(TaskMap):
         return TaskArrays(FRAME_POSITION, self.frame_parent, self.frame_translation, self.axes)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def task_forward(task, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
     """The task vector x into ``out`` (n,) from the joint frames of :func:`joints_forward` (Eq. 1)."""
     if task.kind == FRAME_POSITION:
         _frame_position(task, rot_ws, pos_ws, out)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _frame_position(task, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
     f = task.frame_parent
     axes = task.axes

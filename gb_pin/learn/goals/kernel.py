@@ -7,7 +7,7 @@ from numba import njit
 from gb_pin.learn.goals.base import CYCLIC, UNIFORM
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def next_goal(goals, rng, out):  # type: ignore[no-untyped-def]
     """Write the next goal into ``out`` (n,) for a built-in generator; False if Python must decide.
 

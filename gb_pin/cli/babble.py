@@ -1,0 +1,223 @@
+"""``gb-pin babble``: one run, optionally resumed, recorded, checkpointed or watched live.
+
+:func:`run` reads the checkpoint to resume (if any), checks the robot, compiles the kernels,
+opens the viewer, babbles and prints the summary that README.md shows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import TYPE_CHECKING, Any
+
+from gb_pin.cli.options import add_learner_options, add_quiet, learner_values
+from gb_pin.exceptions import InvalidArgumentError
+
+if TYPE_CHECKING:
+    from gb_pin.cli.options import Subparsers
+    from gb_pin.learn.history import Recording
+    from gb_pin.runs.result import BabbleResult
+    from gb_pin.viewer import Viewer
+
+
+def add_babble(sub: Subparsers) -> None:
+    """Register ``babble``."""
+    sub.add_parser("babble", help="learn an inverse model by goal babbling", configure=_add_options)
+
+
+def _add_options(b: argparse.ArgumentParser) -> None:
+    """``babble``'s options: the run, the learner, output, checkpoints, recording, viewer."""
+    b.add_argument(
+        "--robot", default="planar20", help="preset name, e.g. planar5, planar20 (default planar20)"
+    )
+    b.add_argument(
+        "--movements", type=int, default=1000, help="movements, home returns included (default 1000)"
+    )
+    b.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    add_learner_options(b)
+    b.add_argument("--out", default=None, help="save the result to this .npz file")
+    _add_checkpoint_options(b)
+    _add_record_options(b)
+    _add_view_options(b)
+    add_quiet(b)
+    b.set_defaults(func=run)
+
+
+def _add_checkpoint_options(b: argparse.ArgumentParser) -> None:
+    """--checkpoint, --checkpoint-every, --resume."""
+    b.add_argument(
+        "--checkpoint", default=None, help="write the run's complete state to this file as it goes (atomic)"
+    )
+    b.add_argument("--checkpoint-every", type=int, default=None, help="movements between checkpoints")
+    b.add_argument(
+        "--resume",
+        default=None,
+        help="continue the run of this checkpoint (bit-identical to an uninterrupted run)",
+    )
+
+
+def _add_record_options(b: argparse.ArgumentParser) -> None:
+    """--record-every, --record-movements: steps kept for ``gb-pin replay``."""
+    b.add_argument(
+        "--record-every", type=int, default=None, help="record every K-th step into the result (for replay)"
+    )
+    b.add_argument(
+        "--record-movements", default=None, help="record movements FIRST:LAST only, e.g. 0:50 (default all)"
+    )
+
+
+def _add_view_options(b: argparse.ArgumentParser) -> None:
+    """--view and its port, pace and wait."""
+    b.add_argument("--view", action="store_true", help="watch it live in a browser (meshcat, 127.0.0.1)")
+    b.add_argument("--view-port", type=int, default=None, help="viewer port (default: first free from 7000)")
+    b.add_argument(
+        "--view-pace", type=float, default=None, help="slow motion: at most this many movements per second"
+    )
+    b.add_argument(
+        "--view-wait", type=float, default=60.0, help="seconds to wait for a browser to connect (default 60)"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Babble (or resume), print the summary and save the result if asked."""
+    from gb_pin.robot.presets import get_preset
+    from gb_pin.runs.api import warmup
+
+    done = _read_resume(args)
+    get_preset(args.robot)  # an unknown robot is reported before the kernels compile
+    record = _recording(args)
+    compile_time = warmup()
+    viewer = _start_viewer(args)
+    progress = _Progress(args.robot, args.movements, done, disable=args.quiet)
+    start = time.perf_counter()
+    try:
+        result = _run(args, progress, record, viewer)
+    finally:
+        progress.close()
+        if viewer is not None:
+            viewer.finish()  # the last state and the learned model; browsers keep showing them
+            viewer.close()
+    _print_summary(args, result, time.perf_counter() - start, compile_time)
+    if args.out:
+        result.save(args.out)
+        print(f"saved            {args.out}")
+    return 0
+
+
+def _read_resume(args: argparse.Namespace) -> int:
+    """--resume: set ``args.robot``, ``movements`` and ``seed`` from the checkpoint; movements done."""
+    if not args.resume:
+        return 0
+    from gb_pin.runs.checkpoint import read_checkpoint
+
+    state, info = read_checkpoint(args.resume)
+    if info.robot is None:
+        raise InvalidArgumentError(
+            f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume)"
+        )
+    args.robot, args.movements, args.seed = info.robot, info.movements, info.seed
+    return int(state.movements)
+
+
+def _run(
+    args: argparse.Namespace, progress: _Progress, record: Recording | None, viewer: Viewer | None
+) -> BabbleResult:
+    """The run itself: ``resume(...)`` of the checkpoint or a fresh ``babble(...)``."""
+    from gb_pin.runs.api import babble, resume
+
+    common: dict[str, Any] = {
+        "callback": progress,
+        "checkpoint_every": args.checkpoint_every,
+        "viewer": viewer,
+        # At full speed the viewer shows at most 30 frames/s anyway: observing every 10th movement
+        # keeps the core's per-chunk cost small; with --view-pace every movement is shown.
+        "observe_every": 1 if args.view_pace is not None else 10,
+    }
+    if args.resume:
+        return resume(args.resume, **common)
+    return babble(
+        robot=args.robot,
+        movements=args.movements,
+        seed=args.seed,
+        checkpoint=args.checkpoint,
+        record=record,
+        **common,
+        **learner_values(args),
+    )
+
+
+class _Progress:
+    """The progress callback: a tqdm bar, created on the first report so that errors come without a bar."""
+
+    def __init__(self, robot: str, total: int, done: int, *, disable: bool) -> None:
+        from tqdm import tqdm  # imported here, before the run is timed
+
+        self._tqdm = tqdm
+        self._robot, self._total, self._done, self._disable = robot, total, done, disable
+        self._bar: Any = None
+
+    def __call__(self, r: int) -> None:
+        if self._bar is None:
+            self._bar = self._tqdm(
+                total=self._total,
+                initial=self._done,
+                unit="mv",
+                desc=f"babbling {self._robot}",
+                disable=self._disable,
+            )
+        self._bar.update(r - self._done)
+        self._done = r
+
+    def close(self) -> None:
+        """Close the bar, if one was shown."""
+        if self._bar is not None:
+            self._bar.close()
+
+
+def _print_summary(args: argparse.Namespace, result: BabbleResult, wall: float, compile_time: float) -> None:
+    """The summary of README.md: E^X, D^home, prototypes, wall time."""
+    e0 = result.history.error[0]
+    print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {result.target.axes})")
+    print(f"movements        {result.movements} ({result.steps} steps), seed {args.seed}")
+    print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
+    print(f"D^home           {result.home_distance:.4f} rad")
+    print(f"prototypes       {result.n_prototypes}")
+    print(
+        f"wall time        {wall:.2f} s ({1e6 * result.wall_time / result.steps:.2f} us/step, "
+        f"evaluation included; plus {compile_time:.2f} s to compile or load the kernels)"
+    )
+
+
+def _recording(args: argparse.Namespace) -> Recording | None:
+    """The Recording asked for by --record-every / --record-movements, or None."""
+    if args.record_every is None and args.record_movements is None:
+        return None
+    from gb_pin.learn.history import Recording
+    from gb_pin.viewer import parse_range
+
+    first, last = parse_range(args.record_movements or "0:", "--record-movements")
+    return Recording(every=1 if args.record_every is None else args.record_every, first=first, last=last)
+
+
+def _start_viewer(args: argparse.Namespace) -> Viewer | None:
+    """--view: a live viewer on 127.0.0.1 (or a warning and None); waits for a browser to connect."""
+    if not args.view:
+        return None
+    import warnings
+
+    from gb_pin.viewer import ViewerWarning, open_viewer
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ViewerWarning)
+        viewer = open_viewer(args.view_port, pace=args.view_pace)
+    for w in caught:
+        print(f"gb-pin: warning: {w.message}", file=sys.stderr)
+    if viewer is None:
+        return None
+    print(f"viewer           {viewer.url}  (open it in a browser; served on 127.0.0.1 only)", flush=True)
+    if args.view_pace is None:
+        print("                 (full speed; --view-pace 30 shows every movement, 30 per second)", flush=True)
+    if args.view_wait > 0 and not viewer.wait_for_browser(args.view_wait):
+        print(f"                 no browser within {args.view_wait:g} s: babbling anyway", flush=True)
+    return viewer

@@ -1,0 +1,92 @@
+"""What the commands share: their parser class, option helpers, the learner's options.
+
+:class:`CommandParser` lets each command module add its own options.
+
+The six learner options (``--learning-rate`` ... ``--p-home``) of ``babble`` and ``trials`` are
+generated from :data:`gb_pin.learn.config.HYPERPARAMETERS`: option name, type and help text are
+defined there once. Their default is None: the robot preset's value, else the table's; the
+values go on to ``babble(...)`` and ``run_trials(...)`` by the table's names
+(:func:`learner_values`).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from gb_pin.learn.config import Hyperparameter
+
+
+class CommandParser(argparse.ArgumentParser):
+    """A sub-command's parser: ``sub.add_parser(name, help=..., configure=f)`` calls ``f(parser)``.
+
+    ``f`` adds the command's options and ``func`` (what :func:`gb_pin.cli.main` calls), so each
+    command module keeps its options next to the code that runs it.
+    """
+
+    def __init__(
+        self, *args: Any, configure: Callable[[argparse.ArgumentParser], None] | None = None, **kwargs: Any
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        if configure is not None:
+            configure(self)
+
+
+if TYPE_CHECKING:
+    Subparsers = argparse._SubParsersAction[CommandParser]
+    """What ``add_subparsers()`` returns: each command's ``add_<command>(sub)`` registers it there."""
+
+
+def _learner_help(h: Hyperparameter) -> str:
+    """``--help`` text of one learner option: the table's text and where the default comes from."""
+    default = "" if h.default is None else f"; default {h.default:g}"
+    # argparse %-formats help texts: a literal percent sign must be doubled.
+    return f"{h.help}{default}, or the robot preset's".replace("%", "%%")
+
+
+def add_learner_options(parser: argparse.ArgumentParser) -> None:
+    """The learner's hyperparameters as options (None: the robot preset's or the table's default)."""
+    from gb_pin.learn.config import HYPERPARAMETERS  # the table only: numba is not imported
+
+    for h in HYPERPARAMETERS:
+        parser.add_argument(h.option, dest=h.name, type=h.type, default=None, help=_learner_help(h))
+
+
+def learner_values(args: argparse.Namespace, *, given_only: bool = False) -> dict[str, Any]:
+    """The learner options' values by hyperparameter name; ``given_only`` drops those left at None."""
+    from gb_pin.learn.config import NAMES
+
+    values = {name: getattr(args, name) for name in NAMES}
+    return {k: v for k, v in values.items() if v is not None} if given_only else values
+
+
+def comma_list(text: str) -> list[str]:
+    """``"planar5, planar20,"`` as ``["planar5", "planar20"]``: stripped, empty items dropped."""
+    return [item.strip() for item in text.split(",") if item.strip()]
+
+
+def add_trial_seed(parser: argparse.ArgumentParser) -> None:
+    """``--seed`` of commands running several trials."""
+    parser.add_argument("--seed", type=int, default=0, help="seed of trial 0; trial i uses seed + i")
+
+
+def add_workers(parser: argparse.ArgumentParser, text: str = "processes (default: all cores)") -> None:
+    """``--workers``: local processes for the trials."""
+    parser.add_argument("--workers", type=int, default=None, help=text)
+
+
+def add_quiet(parser: argparse.ArgumentParser, text: str = "no progress bar") -> None:
+    """``--quiet``: no progress bar."""
+    parser.add_argument("--quiet", action="store_true", help=text)
+
+
+def add_port(parser: argparse.ArgumentParser) -> None:
+    """``--port`` of the browser viewer."""
+    parser.add_argument("--port", type=int, default=None, help="viewer port (default: first free from 7000)")
+
+
+def add_html(parser: argparse.ArgumentParser) -> None:
+    """``--html``: write one offline file instead of serving."""
+    parser.add_argument("--html", default=None, help="write one self-contained HTML file instead of serving")

@@ -1,0 +1,61 @@
+"""``gb-pin reproduce``: the paper's figures 3-8, their numbers and results.md."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from gb_pin.cli.options import add_quiet, add_trial_seed, add_workers
+
+if TYPE_CHECKING:
+    from gb_pin.cli.options import Subparsers
+
+
+def add_reproduce(sub: Subparsers) -> None:
+    """Register ``reproduce``."""
+    sub.add_parser(
+        "reproduce", help="the paper's figures 3-8, their numbers and results.md", configure=_add_options
+    )
+
+
+def _add_options(p: argparse.ArgumentParser) -> None:
+    """``reproduce``'s figures and options."""
+    p.add_argument(
+        "figures", nargs="+", metavar="FIGURE", help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all"
+    )
+    p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
+    p.add_argument("--trials", type=int, default=100, help="trials per condition (default 100, the paper's)")
+    p.add_argument(
+        "--movements",
+        type=int,
+        default=10_000,
+        help="movements per trial; final errors are read there (default 10000; the paper: 1e6-1e7)",
+    )
+    add_trial_seed(p)
+    add_workers(p, "local processes (default: all cores)")
+    p.add_argument(
+        "--scheduler", default=None, help="run the trials on this Dask scheduler (tcp://host:8786)"
+    )
+    p.add_argument("--fresh", action="store_true", help="ignore the cached trials in OUT/trials")
+    add_quiet(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Reproduce the figures asked for and say where they went."""
+    from gb_pin.reproduce import reproduce
+
+    result = reproduce(
+        args.figures,
+        out=args.out,
+        trials=args.trials,
+        movements=args.movements,
+        seed=args.seed,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.quiet,
+        fresh=args.fresh,
+        log=print,
+    )
+    print(f"wrote {len(result.files)} files to {args.out} in {result.wall_time:.0f} s (see results.md)")
+    return 0

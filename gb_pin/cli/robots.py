@@ -1,0 +1,72 @@
+"""``gb-pin robots``: the robot presets, or (--benchmark) the table of docs/ROBOTS.md."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from gb_pin.cli.options import add_quiet, add_trial_seed, add_workers, comma_list
+
+if TYPE_CHECKING:
+    from gb_pin.cli.options import Subparsers
+
+DEFAULT_TRIALS = 10
+
+
+def add_robots(sub: Subparsers) -> None:
+    """Register ``robots``."""
+    sub.add_parser(
+        "robots",
+        help="list the robot presets (--benchmark: the table of docs/ROBOTS.md)",
+        configure=_add_options,
+    )
+
+
+def _add_options(r: argparse.ArgumentParser) -> None:
+    """``robots``'s options, those of --benchmark."""
+    r.add_argument("--benchmark", action="store_true", help="run trials on every preset and print the table")
+    r.add_argument("--robots", default=None, help="comma-separated presets (default: all, planar5, planar20)")
+    r.add_argument(
+        "--trials", type=int, default=DEFAULT_TRIALS, help=f"trials per preset (default {DEFAULT_TRIALS})"
+    )
+    r.add_argument("--movements", type=int, default=10000, help="movements per trial (default 10000)")
+    add_trial_seed(r)
+    add_workers(r)
+    r.add_argument("--doc", default=None, help="update the table in this markdown file (docs/ROBOTS.md)")
+    r.add_argument("--figure", default=None, help="write the learning curves to this PNG (matplotlib)")
+    r.add_argument("--json", default=None, help="write the results and every trial's curve to this file")
+    add_quiet(r, "no progress output")
+    r.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the presets, or run the benchmark."""
+    if args.benchmark:
+        return _benchmark(args)
+    from gb_pin.robot.presets import format_presets
+
+    print(format_presets())
+    return 0
+
+
+def _benchmark(args: argparse.Namespace) -> int:
+    """--benchmark: trials on every preset; the table, and optionally the doc, figure and JSON."""
+    from gb_pin.experiments.robot_bench import run as run_benchmark
+
+    # The command recorded with the table: how to regenerate it.
+    command = "gb-pin robots --benchmark"
+    if args.trials != DEFAULT_TRIALS:
+        command += f" --trials {args.trials}"
+    run_benchmark(
+        comma_list(args.robots) if args.robots else None,
+        trials=args.trials,
+        movements=args.movements,
+        seed=args.seed,
+        workers=args.workers,
+        progress=not args.quiet,
+        doc=args.doc,
+        figure=args.figure,
+        json_path=args.json,
+        command=command,
+    )
+    return 0

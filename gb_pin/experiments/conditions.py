@@ -1,0 +1,166 @@
+"""Experimental conditions (a robot and babble parameters), grids of them, and a sweep's results.
+
+The babble parameters a condition may set are the learner's hyperparameters, named once
+in :data:`gb_pin.learn.config.NAMES`; :data:`BABBLE_ARGS` is that tuple.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from gb_pin._files import write_json
+from gb_pin.exceptions import InvalidArgumentError, ResultFileError
+from gb_pin.experiments._json import plain, read_json
+from gb_pin.experiments.trialset import TrialSet
+from gb_pin.learn.config import NAMES, check_values
+
+BABBLE_ARGS: tuple[str, ...] = NAMES  # the babble arguments of a trial: the hyperparameter table's names
+SWEEP_FORMAT = "gb_pin.sweep"
+
+
+def check_parameters(parameters: Mapping[str, Any], what: str = "babble arguments") -> None:
+    """Validate babble arguments against the hyperparameter table (names and values; None = default).
+
+    The values are only checked: a trial receives them as given, so that its journal key
+    and its :class:`TrialSet`'s ``parameters`` are what the caller wrote.
+
+    Raises:
+        InvalidArgumentError: an unknown name or a bad value (the message names it).
+    """
+    check_values(parameters, what=what)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One experimental condition of a sweep: a robot and babble parameters.
+
+    Attributes:
+        robot: preset name, e.g. ``"planar5"``.
+        parameters: babble arguments (``learning_rate``, ``sigma``, ``sigma_delta``,
+            ``radius``, ``path_length``, ``p_home``); the rest take the preset's defaults.
+        movements: movements per trial; None takes the sweep's.
+        schedule: movement counts to record (0 is always added); None: the default
+            :func:`~gb_pin.learn.metrics.evaluation_schedule` of the run length.
+    """
+
+    robot: str = "planar5"
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    movements: int | None = None
+    schedule: tuple[int, ...] | None = None
+
+    def __hash__(self) -> int:
+        return hash((self.robot, tuple(sorted(self.parameters.items())), self.movements, self.schedule))
+
+    @property
+    def label(self) -> str:
+        """A short readable name, e.g. ``planar5 learning_rate=0.1``."""
+        parts = [self.robot, *(f"{k}={v:g}" for k, v in sorted(self.parameters.items()))]
+        return " ".join(parts)
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-serialisable dict."""
+        return {
+            "robot": self.robot,
+            "parameters": dict(self.parameters),
+            "movements": self.movements,
+            "schedule": None if self.schedule is None else list(self.schedule),
+        }
+
+    @classmethod
+    def from_json(cls, raw: Mapping[str, Any]) -> Condition:
+        """Rebuild a condition from :meth:`to_json`'s dict."""
+        sched = raw.get("schedule")
+        mv = raw.get("movements")
+        return cls(
+            robot=str(raw["robot"]),
+            parameters=dict(raw.get("parameters", {})),
+            movements=None if mv is None else int(mv),
+            schedule=None if sched is None else tuple(int(s) for s in sched),
+        )
+
+
+def conditions_grid(robot: str | Sequence[str] = "planar5", **parameters: Any) -> list[Condition]:
+    """The Cartesian product of a robot (or robots) and babble arguments given as values or lists.
+
+    >>> [c.label for c in conditions_grid("planar5", learning_rate=[0.01, 0.1])]
+    ['planar5 learning_rate=0.01', 'planar5 learning_rate=0.1']
+    """
+    unknown = sorted(set(parameters) - set(BABBLE_ARGS))
+    if unknown:
+        raise InvalidArgumentError(
+            f"unknown sweep arguments {unknown}; valid: robot, {', '.join(BABBLE_ARGS)}"
+        )
+
+    def values(name: str, v: Any) -> list[Any]:
+        out = [v] if isinstance(v, str) or not isinstance(v, Sequence | np.ndarray) else list(v)
+        if not out:
+            raise InvalidArgumentError(f"{name} must list at least one value, got {v!r}")
+        return out
+
+    robots = values("robot", robot)
+    names = list(parameters)
+    lists = [values(n, parameters[n]) for n in names]
+    return [
+        Condition(robot=r, parameters={n: plain(v) for n, v in zip(names, combo, strict=True)})
+        for r in robots
+        for combo in itertools.product(*lists)
+    ]
+
+
+@dataclass(frozen=True, eq=False)
+class Sweep:
+    """Trials of several conditions: ``results[i]`` holds the trials of ``conditions[i]``.
+
+    Iterating yields ``(condition, trial_set)`` pairs.
+    """
+
+    conditions: tuple[Condition, ...]
+    results: tuple[TrialSet, ...]
+
+    def __len__(self) -> int:
+        return len(self.conditions)
+
+    def __iter__(self) -> Iterator[tuple[Condition, TrialSet]]:
+        return iter(zip(self.conditions, self.results, strict=True))
+
+    def __getitem__(self, index: int) -> TrialSet:
+        return self.results[index]
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-serialisable dict: the conditions and each one's trials."""
+        return {
+            "format": SWEEP_FORMAT,
+            "format_version": 1,
+            "conditions": [c.to_json() for c in self.conditions],
+            "results": [r.to_json() for r in self.results],
+        }
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Write the sweep to one JSON file (atomically, no pickle)."""
+        write_json(path, self.to_json())
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Sweep:
+        """Read a sweep written by :meth:`save`.
+
+        Raises:
+            ResultFileError: missing, malformed or foreign file.
+        """
+        path = os.fspath(path)
+        raw = read_json(path)
+        if not isinstance(raw, dict) or raw.get("format") != SWEEP_FORMAT:
+            raise ResultFileError(f"{path}: not a gb_pin sweep file")
+        try:
+            conditions = tuple(Condition.from_json(c) for c in raw["conditions"])
+            results = tuple(TrialSet.from_json(r, path) for r in raw["results"])
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ResultFileError(f"{path}: malformed sweep file ({exc!r})") from exc
+        if len(conditions) != len(results):
+            raise ResultFileError(f"{path}: {len(conditions)} conditions but {len(results)} results")
+        return cls(conditions=conditions, results=results)

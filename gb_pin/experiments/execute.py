@@ -1,0 +1,295 @@
+"""Running trials: plan the tasks, run them on local cores or a Dask cluster, assemble the trial sets.
+
+Trial i of a condition uses seed ``seed + i``, so a set of trials gives the same
+numbers whatever runs it: one process, a local process pool, or a Dask cluster
+(:mod:`gb_pin.experiments.distributed`). A task carries only the robot's preset name, the
+parameters, the seed and the movement counts to record, never a model: every
+worker builds its robot from the name.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.experiments.conditions import Condition, Sweep, check_parameters, conditions_grid
+from gb_pin.experiments.journal import TrialJournal, TrialOutput, TrialTask
+from gb_pin.experiments.trialset import TrialSet
+from gb_pin.learn.metrics import evaluation_schedule
+from gb_pin.robot.presets import get_preset
+from gb_pin.runs.api import babble
+
+
+def run_one_trial(
+    robot: str, movements: int, seed: int, schedule: NDArray[np.int64], kwargs: dict[str, Any]
+) -> TrialOutput:
+    """One trial, as a worker runs it: (E^X, D^home at ``schedule``, prototypes).
+
+    Module-level and fed only plain values, so that a process pool or a Dask worker
+    receives the robot's name, never a model.
+    """
+    result = babble(robot=robot, movements=movements, seed=seed, schedule=schedule, **kwargs)
+    return result.history.error, result.history.home_distance, result.n_prototypes
+
+
+def resolve_schedule(schedule: ArrayLike | None, movements: int) -> NDArray[np.int64]:
+    """The movement counts to record: sorted, unique, with 0; default :func:`evaluation_schedule`.
+
+    Raises:
+        InvalidArgumentError: not a 1-D sequence of whole movement counts in [0, movements].
+    """
+    if schedule is None:
+        return evaluation_schedule(movements)
+    try:
+        raw = np.asarray(schedule)
+        if raw.ndim != 1 or (raw.size and not np.all(np.equal(np.mod(raw, 1), 0))):
+            raise ValueError
+        at = np.unique(np.concatenate([[0], raw.astype(np.int64)]))
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"schedule must be a 1-D sequence of movement counts, got {schedule!r}"
+        ) from exc
+    # Movement 0 is always recorded: it gives E_0.
+    if at[0] < 0 or at[-1] > movements:
+        raise InvalidArgumentError(
+            f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"
+        )
+    return at
+
+
+@dataclass(frozen=True)
+class _Plan:
+    condition: Condition
+    movements: int
+    schedule: NDArray[np.int64]
+    parameters: dict[str, Any]
+    cost: float  # estimated work of one trial, to start the longest first
+
+
+def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
+    """Validate a condition with a one-movement run here, before any worker starts."""
+    if not isinstance(condition, Condition):
+        raise InvalidArgumentError(f"conditions must be gb_pin.Condition objects, got {condition!r}")
+    if not isinstance(condition.robot, str):
+        raise InvalidArgumentError(f"robot must be a preset name for trials, got {condition.robot!r}")
+    get_preset(condition.robot)
+    parameters = dict(condition.parameters)
+    check_parameters(parameters)
+    length = (
+        movements if condition.movements is None else check.positive_int("movements", condition.movements)
+    )
+    at = resolve_schedule(condition.schedule, length)
+    probe = babble(robot=condition.robot, movements=1, seed=seed, schedule=[0, 1], **parameters)
+    return _Plan(condition, length, at, parameters, float(length) * (probe.target.n_joints + 5))
+
+
+def _execute(
+    tasks: list[TrialTask],
+    costs: list[float],
+    workers: int | None,
+    scheduler: Any,
+    progress: bool,
+    desc: str,
+    journal: TrialJournal | None = None,
+) -> list[TrialOutput]:
+    """Run the tasks (longest first, those in ``journal`` not again); outputs in task order."""
+    results: list[TrialOutput | None] = [None] * len(tasks)
+    if journal is not None:
+        for i, task in enumerate(tasks):
+            results[i] = journal.done.get(TrialJournal.key(task))
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        finished = sum(r is not None for r in results)
+        bar = tqdm(total=len(tasks), initial=finished, unit="trial", desc=desc)
+
+    def done(i: int, out: TrialOutput) -> None:
+        results[i] = out
+        if journal is not None:
+            journal.record(tasks[i], out)
+        if bar is not None:
+            bar.update(1)
+
+    todo = [i for i in range(len(tasks)) if results[i] is None]
+    order = sorted(todo, key=lambda i: -costs[i])
+    try:
+        if scheduler is not None:
+            from gb_pin.experiments.distributed import map_tasks
+
+            sub = [tasks[i] for i in todo]
+
+            def done_sub(k: int, out: TrialOutput) -> None:
+                done(todo[k], out)
+
+            map_tasks(run_one_trial, sub, scheduler, done_sub, priorities=[costs[i] for i in todo])
+        elif not todo:
+            pass
+        elif workers == 1 or len(todo) == 1:
+            for i in order:
+                done(i, run_one_trial(*tasks[i]))
+        else:
+            with ProcessPoolExecutor(max_workers=min(workers or 1, len(todo))) as pool:
+                futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
+                for fut in as_completed(futures):
+                    done(futures[fut], fut.result())
+    finally:
+        if bar is not None:
+            bar.close()
+    return [r for r in results if r is not None]
+
+
+def _check_executor(workers: int | None, scheduler: Any) -> int | None:
+    if scheduler is not None:
+        if workers is not None:
+            raise InvalidArgumentError(
+                f"workers={workers!r} cannot be combined with a Dask scheduler: the cluster's workers run "
+                "the trials (leave workers=None)"
+            )
+        return None
+    if workers is None:
+        workers = os.cpu_count() or 1
+    return check.positive_int("workers", workers)
+
+
+def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSet:
+    error = np.array([o[0] for o in outputs])
+    return TrialSet(
+        robot=plan.condition.robot,
+        seed=seed,
+        parameters=plan.parameters,
+        movements=plan.schedule,
+        error=error,
+        home_distance=np.array([o[1] for o in outputs]),
+        # E_0 is the same for every trial (the estimate starts constant at q_home).
+        initial_error=float(error[0, 0]),
+        prototypes=np.array([o[2] for o in outputs], dtype=np.int64),
+    )
+
+
+def run_sweep(
+    conditions: Sequence[Condition] | None = None,
+    *,
+    trials: int = 100,
+    movements: int = 300,
+    seed: int = 0,
+    workers: int | None = None,
+    scheduler: Any = None,
+    progress: bool = False,
+    checkpoint: str | os.PathLike[str] | None = None,
+    **grid: Any,
+) -> Sweep:
+    """Run independent trials for several conditions, all trials sharing one pool of workers.
+
+    Give either ``conditions`` or a grid: ``robot`` and any babble argument as a value or
+    a list of values, e.g. ``run_sweep(robot="planar5", learning_rate=[0.01, 0.1])`` or
+    ``run_sweep(robot=["planar20", "planar50"])``; the grid is the Cartesian product,
+    the first argument varying slowest.
+
+    Args:
+        conditions: the conditions to run.
+        trials: trials per condition; trial i uses ``seed + i`` in every condition.
+        movements: movements per trial (a condition's own ``movements`` overrides it).
+        seed: seed of trial 0.
+        workers: local processes; None = all local cores, 1 = in this process.
+        scheduler: a Dask scheduler address (``"tcp://host:8786"``) or a
+            ``dask.distributed.Client``: run the trials on that cluster instead
+            (see :mod:`gb_pin.experiments.distributed`); results are identical to a local run.
+        progress: show a progress bar over all trials (tqdm).
+        checkpoint: a :class:`~gb_pin.experiments.journal.TrialJournal` file: every finished
+            trial is appended to it, and trials already in it are not run again (resume an
+            interrupted sweep by running the same call again).
+        **grid: ``robot`` and babble arguments (values or lists of values).
+
+    Returns:
+        A :class:`~gb_pin.experiments.conditions.Sweep`, ``results[i]`` for ``conditions[i]``.
+
+    Raises:
+        InvalidArgumentError: bad conditions or arguments (checked before any trial starts).
+        GbPinError: the Dask cluster cannot be reached.
+    """
+    if conditions is None:
+        conditions = conditions_grid(**grid)
+    elif grid:
+        raise InvalidArgumentError(f"give either conditions or grid arguments, not both (got {sorted(grid)})")
+    conditions = list(conditions)
+    if not conditions:
+        raise InvalidArgumentError("a sweep needs at least one condition, got none")
+    trials = check.positive_int("trials", trials)
+    movements = check.positive_int("movements", movements)
+    seed = check.positive_int("seed", seed, minimum=0)
+    workers = _check_executor(workers, scheduler)
+    plans = [_plan(c, movements, seed) for c in conditions]
+    tasks: list[TrialTask] = []
+    costs: list[float] = []
+    for p in plans:
+        for i in range(trials):
+            tasks.append((p.condition.robot, p.movements, seed + i, p.schedule, p.parameters))
+            costs.append(p.cost)
+    desc = plans[0].condition.label if len(plans) == 1 else f"{len(plans)} conditions"
+    journal = None if checkpoint is None else TrialJournal(checkpoint)
+    outputs = _execute(tasks, costs, workers, scheduler, progress, desc, journal)
+    results = tuple(_assemble(p, seed, outputs[k * trials : (k + 1) * trials]) for k, p in enumerate(plans))
+    return Sweep(conditions=tuple(conditions), results=results)
+
+
+def run_trials(
+    robot: str = "planar5",
+    trials: int = 100,
+    movements: int = 300,
+    seed: int = 0,
+    workers: int | None = None,
+    *,
+    schedule: Sequence[int] | None = None,
+    progress: bool = False,
+    scheduler: Any = None,
+    checkpoint: str | os.PathLike[str] | None = None,
+    **babble_args: Any,
+) -> TrialSet:
+    """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
+
+    Args:
+        robot: preset name.
+        trials: number of trials.
+        movements: movements per trial.
+        seed: seed of trial 0.
+        workers: processes; None = all local cores, 1 = in this process.
+        schedule: movement counts to record (0 is always added); default
+            :func:`~gb_pin.learn.metrics.evaluation_schedule`.
+        progress: show a progress bar (tqdm).
+        scheduler: a Dask scheduler address or ``dask.distributed.Client`` to run on
+            (see :func:`run_sweep`).
+        checkpoint: a trial journal file; finished trials in it are not recomputed
+            (see :class:`~gb_pin.experiments.journal.TrialJournal`).
+        **babble_args: the hyperparameters of :data:`gb_pin.learn.config.NAMES`
+            (learning_rate, sigma, sigma_delta, radius, path_length, p_home).
+
+    Returns:
+        A :class:`~gb_pin.experiments.trialset.TrialSet`; identical for any number of
+        workers, locally or on Dask.
+    """
+    if not isinstance(robot, str):
+        raise InvalidArgumentError(f"robot must be a preset name for run_trials, got {robot!r}")
+    check_parameters(babble_args)
+    movements = check.positive_int("movements", movements)
+    at = None if schedule is None else tuple(int(s) for s in resolve_schedule(schedule, movements))
+    condition = Condition(robot=robot, parameters=babble_args, schedule=at)
+    sweep = run_sweep(
+        [condition],
+        trials=trials,
+        movements=movements,
+        seed=seed,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        checkpoint=checkpoint,
+    )
+    return sweep.results[0]

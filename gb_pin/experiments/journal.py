@@ -1,0 +1,108 @@
+"""The trial journal: finished trials, one JSON line each, so that an interrupted sweep resumes.
+
+The file (``"format": "gb_pin.trial-journal"``, version 1) is a header line, then one
+line per finished trial: its key (robot, movements, seed, schedule, parameters) and its
+output. A line is appended, flushed and fsynced as its trial finishes; everything else
+(creating the file, dropping a torn last line) is an atomic rewrite through
+:mod:`gb_pin._files`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin._files import write_text
+from gb_pin.exceptions import ResultFileError
+from gb_pin.experiments._json import plain
+
+# What one trial needs: (robot name, movements, seed, movement counts to record, babble arguments).
+TrialTask = tuple[str, int, int, NDArray[np.int64], dict[str, Any]]
+# What one trial gives: (E^X at the schedule, D^home at the schedule, prototypes at the end).
+TrialOutput = tuple[NDArray[np.float64], NDArray[np.float64], int]
+
+
+class TrialJournal:
+    """Finished trials, appended one JSON line each, so an interrupted sweep recomputes nothing finished.
+
+    Each line holds a trial's key (robot, movements, seed, schedule, parameters) and its
+    output; lines are flushed and fsynced as trials finish. A crash mid-write leaves at
+    most one incomplete last line, which is ignored. The file can be shared by several
+    sweeps: a trial is reused only if every part of its key matches.
+
+    Args:
+        path: the journal file (created if missing).
+
+    Raises:
+        ResultFileError: the file exists but is not a gb_pin trial journal.
+    """
+
+    HEADER: ClassVar[dict[str, Any]] = {"format": "gb_pin.trial-journal", "format_version": 1}
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = os.fspath(path)
+        self.done: dict[str, TrialOutput] = {}
+        if os.path.exists(self.path):
+            self._read()
+        else:
+            write_text(self.path, json.dumps(self.HEADER) + "\n")
+
+    @staticmethod
+    def key(task: TrialTask) -> str:
+        """A canonical string naming one trial."""
+        robot, movements, seed, schedule, parameters = task
+        return json.dumps(
+            [
+                robot,
+                int(movements),
+                int(seed),
+                [int(v) for v in schedule],
+                {k: plain(v) for k, v in parameters.items()},
+            ],
+            sort_keys=True,
+        )
+
+    def _read(self) -> None:
+        try:
+            with open(self.path, encoding="utf-8") as fh:
+                lines = fh.read().split("\n")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ResultFileError(f"{self.path}: unreadable trial journal ({exc})") from exc
+        try:
+            header = json.loads(lines[0])
+        except ValueError:
+            header = None
+        if header != self.HEADER:
+            raise ResultFileError(f"{self.path}: not a gb_pin trial journal (first line {lines[0][:80]!r})")
+        complete = []
+        for line in lines[1:]:
+            try:
+                entry = json.loads(line)
+                out = (
+                    np.array(entry["error"], dtype=float),
+                    np.array(entry["home_distance"], dtype=float),
+                    int(entry["prototypes"]),
+                )
+                self.done[str(entry["key"])] = out
+                complete.append(line)
+            except (ValueError, KeyError, TypeError):
+                continue  # the last line of a run killed mid-write
+        # Rewrite without a torn line, so that appended lines start on a fresh line.
+        if len(complete) != len([ln for ln in lines[1:] if ln]):
+            write_text(self.path, "\n".join([lines[0], *complete]) + "\n")
+
+    def record(self, task: TrialTask, out: TrialOutput) -> None:
+        """Append one finished trial durably (one line, flushed and fsynced)."""
+        k = self.key(task)
+        self.done[k] = out
+        line = json.dumps(
+            {"key": k, "error": out[0].tolist(), "home_distance": out[1].tolist(), "prototypes": int(out[2])}
+        )
+        with open(self.path, "a", encoding="utf-8") as fh:
+            fh.write(line + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
