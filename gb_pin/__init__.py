@@ -58,7 +58,47 @@ _EXPORTS: dict[str, str] = {
     "run_trials": "gb_pin.experiments.trials",
 }
 
-__all__ = sorted([*_EXPORTS, "__version__"])
+# the same names as _EXPORTS (a literal, for linters; tests/test_architecture.py checks it)
+__all__ = [
+    "BabbleConfig",
+    "BabbleResult",
+    "BabbleState",
+    "Condition",
+    "DivergenceError",
+    "GbPinError",
+    "GbPinWarning",
+    "GoalBabbling",
+    "History",
+    "InvalidArgumentError",
+    "KinematicChain",
+    "KinematicTarget",
+    "LocalLinearMap",
+    "NotFittedError",
+    "RecordedSteps",
+    "Recording",
+    "ResultFileError",
+    "RobotPreset",
+    "Sweep",
+    "TrialSet",
+    "UnknownRobotError",
+    "UnreachableTargetWarning",
+    "__version__",
+    "babble",
+    "conditions_grid",
+    "default_sigma",
+    "evaluation_schedule",
+    "grid_targets",
+    "load_result",
+    "load_robot",
+    "planar_chain",
+    "planar_home",
+    "resume",
+    "robots",
+    "run_sweep",
+    "run_trials",
+    "save_result",
+    "speed",
+]
 
 
 def __getattr__(name: str) -> Any:

@@ -61,10 +61,13 @@ def main(argv: list[str] | None = None) -> int:
         measure(tree, "planar5", 10, 1)
     runs: dict[str, list[dict[str, list[float]]]] = {"old": [], "new": []}
     for r in range(args.rounds):
-        for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
+        for name in ("old", "new") if r % 2 == 0 else ("new", "old"):
             runs[name].append(measure(trees[name], args.robots, args.movements, args.repeat))
     print(f"{args.rounds} alternating rounds, best of {args.repeat} x {args.movements} movements each")
-    print("| robot | old us/step | new us/step | new/old | old (eval) | new (eval) | new/old (eval) | same E^X |")
+    print(
+        "| robot | old us/step | new us/step | new/old | old (eval) | new (eval) | new/old (eval) "
+        "| same E^X |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for robot in args.robots.split(","):
         med = {k: [statistics.median(run[robot][i] for run in v) for i in (0, 1)] for k, v in runs.items()}

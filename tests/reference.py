@@ -1,10 +1,10 @@
 """A slow, readable, pure-numpy reference of Online Goal Babbling (Rolf, Steil & Gienger, ICDL 2011).
 
 Written from Sec. II and III of the paper, with the conventions that gb_pin documents where the
-paper is silent (module docstrings of ``gb_pin.learn.llm``, ``gb_pin.learn.weighting``, ``gb_pin.learn.exploration``,
-``gb_pin.learn._loop``). It shares no code with gb_pin: the forward kinematics of the planar arm is the
-closed form, the local-linear map is a handful of vectorised numpy expressions, and randomness is
-drawn with ordinary numpy ``Generator`` calls.
+paper is silent (module docstrings of ``gb_pin.learn.llm_kernels``, ``gb_pin.learn.weighting``,
+``gb_pin.learn.exploration``, ``gb_pin.learn.loop``). It shares no code with gb_pin: the forward
+kinematics of the planar arm is the closed form, the local-linear map is a handful of vectorised
+numpy expressions, and randomness is drawn with ordinary numpy ``Generator`` calls.
 
 Conventions reproduced (paper silent or ambiguous):
 

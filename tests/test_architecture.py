@@ -30,7 +30,9 @@ HEAVY = ("pinocchio", "meshcat", "matplotlib", "dask", "distributed", "tornado")
 
 
 def _run(code: str) -> str:
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False
+    )
     assert out.returncode == 0, out.stderr
     return out.stdout
 
@@ -114,7 +116,7 @@ print(json.dumps({"error": learner.history_.error.tolist(), "pin": "pinocchio" i
 
 
 def test_learner_runs_on_a_chain_given_as_arrays_without_pinocchio() -> None:
-    """A planar arm written as arrays learns with Pinocchio unimportable, exactly as the Pinocchio preset does."""
+    """A planar arm written as arrays learns with Pinocchio unimportable, as the Pinocchio model does."""
     out = json.loads(_run(PLANAR_SCRIPT))
     assert out["pin"] is False
     from gb_pin.learn import GoalBabbling
@@ -143,7 +145,8 @@ def _imports(path: Path, module: str, known: set[str]) -> set[str]:
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
-                base = ".".join(package.split(".")[: len(package.split(".")) - node.level + 1] + [base]).strip(".")
+                parts = package.split(".")
+                base = ".".join([*parts[: len(parts) - node.level + 1], base]).strip(".")
             if not base.startswith("gb_pin"):
                 continue
             for a in node.names:
@@ -218,7 +221,7 @@ def test_no_compiled_kernel_takes_more_than_8_positional_parameters() -> None:
 
 
 def test_hyperparameters_have_one_source_of_truth() -> None:
-    """BabbleConfig, GoalBabbling, babble(), trials, presets and the CLI all take their names from the table."""
+    """BabbleConfig, GoalBabbling, babble(), trials and the CLI take their names from the table."""
     from gb_pin.experiments.trials import BABBLE_ARGS
     from gb_pin.learn.learner import GoalBabbling
     from gb_pin.runs.api import babble

@@ -17,8 +17,7 @@ import pytest
 
 import gb_pin
 from gb_pin import _files, _names
-from gb_pin.learn import BabbleState, CyclicGoals, GoalBabbling, PythonGoals, UniformGoals
-from gb_pin.learn import layout
+from gb_pin.learn import BabbleState, CyclicGoals, GoalBabbling, PythonGoals, UniformGoals, layout
 from gb_pin.learn.goals import GoalArrays, make_goals
 from gb_pin.learn.history import RecordedSteps
 
@@ -43,6 +42,7 @@ class PythonCycle(PythonGoals):
     name = "python-cycle"
 
     def next_goal(self, state: GoalArrays, rng: np.random.Generator) -> np.ndarray:
+        """The next target in order."""
         k = int(state.istate[0])
         state.istate[0] = (k + 1) % state.targets.shape[0]
         return state.targets[k]
@@ -165,7 +165,7 @@ def test_task_map_is_the_frame_position_on_the_task_axes() -> None:
 @pytest.mark.parametrize(
     ("key", "value", "match"),
     [
-        ("istate", lambda a: _with(a, layout.EVAL_CURSOR, -10**9), "counters"),
+        ("istate", lambda a: _with(a, layout.EVAL_CURSOR, -(10**9)), "counters"),
         ("istate", lambda a: _with(a, layout.KIND, 7), "counters"),
         ("istate", lambda a: _with(a, layout.RECORDED, 10**6), "counters"),
         ("rec_posture", lambda a: a[:, :-1], "recording"),

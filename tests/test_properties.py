@@ -39,13 +39,16 @@ def _babble_or_own_error(**kwargs: Any) -> gb_pin.BabbleResult | None:
 # path_length is bounded: one movement runs path_length steps, so a draw of 10^6 would run
 # 2 * 10^6 steps (seconds) while testing nothing that 10^3 does not.
 bounded_path_length = st.one_of(
-    st.integers(min_value=-(10**6), max_value=1000), anything.filter(lambda v: not isinstance(v, int) or v <= 1000)
+    st.integers(min_value=-(10**6), max_value=1000),
+    anything.filter(lambda v: not isinstance(v, int) or v <= 1000),
 )
 
 
 @FAST
 @given(
-    name=st.sampled_from(["learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home", "seed"]),
+    name=st.sampled_from(
+        ["learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home", "seed"]
+    ),
     data=st.data(),
 )
 def test_babble_any_parameter_value_is_ok_or_own_error(name: str, data: st.DataObject) -> None:

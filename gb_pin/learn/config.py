@@ -127,7 +127,7 @@ class BabbleConfig:
         sigma defaults to Eq. 12 for ``n_joints``, sigma_delta to 0.1 sigma (Sec. III-B).
         """
         given = check_values(values)
-        out = {
+        out: dict[str, Any] = {
             h.name: given.get(h.name) if given.get(h.name) is not None else h.default for h in HYPERPARAMETERS
         }
         if out["sigma"] is None:

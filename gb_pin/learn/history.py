@@ -98,7 +98,7 @@ class RecordedSteps:
             return None
         if len(present) != len(keys):
             raise InvalidArgumentError(f"incomplete recording (has {present})")
-        values = {
+        values: dict[str, Any] = {
             k: np.asarray(arrays[prefix + k]).astype(dtype)
             for k, dtype in zip(cls.FIELDS, cls.DTYPES, strict=True)
         }

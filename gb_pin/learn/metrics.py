@@ -29,7 +29,8 @@ def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyp
         targets: (N, n) evaluation targets [m].
         limits: :class:`~gb_pin.learn.layout.Limits` (home, lower, upper).
         body: :class:`~gb_pin.learn.body.chain.Body`, the compiled forward kinematics.
-        lm: :class:`~gb_pin.learn.llm_kernels.MapArrays` of the estimate; K prototypes in use.
+        lm: :class:`~gb_pin.learn.llm_kernels.MapArrays` of the estimate.
+        K: prototypes in use.
         q: (m,) scratch.
         x: (n,) scratch.
     """

@@ -162,15 +162,17 @@ def _fill(
     if "change_movements" in arrays:
         C = np.shape(arrays["change_movements"])[0] if np.ndim(arrays["change_movements"]) == 1 else 0
         at = _ints(arrays, "change_movements", (max(C, 1),))
-        st.set_changes({int(a): KinematicChain.from_arrays(arrays, prefix=f"change{i}_chain_")
-                        for i, a in enumerate(at)})  # fmt: skip
+        chains: dict[int, Any] = {
+            int(a): KinematicChain.from_arrays(arrays, prefix=f"change{i}_chain_") for i, a in enumerate(at)
+        }
+        st.set_changes(chains)
     _check_counters(st, K, R, T)
 
 
 def _check_counters(st: BabbleState, K: int, R: int, T: int) -> None:
     """The counters must be consistent with the arrays they index (no out-of-bounds access)."""
     i = st.istate
-    every, first, last = st.record
+    every, first, _ = st.record
     L = st.config.path_length
     ok = (
         i[layout.PROTOTYPES] == K

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,7 +50,7 @@ class BabbleState:
     """
 
     VECTORS = ("q_prev", "q_start", "x_prev", "target_prev", "path_start", "path_end")
-    REC_DTYPES = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
+    REC_DTYPES: ClassVar[dict[str, type]] = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
 
     def __init__(self) -> None:
         self.rng: np.random.Generator
@@ -191,7 +191,10 @@ class BabbleState:
         )  # fmt: skip
         m, n = self.home.shape[0], self.targets.shape[1]
         v = self.vectors
-        motion = layout.Motion(*(v[k] for k in self.VECTORS), np.empty(m), np.empty(n), np.empty(n))
+        q_prev, q_start, x_prev, target_prev, path_start, path_end = (v[k] for k in self.VECTORS)
+        motion = layout.Motion(
+            q_prev, q_start, x_prev, target_prev, path_start, path_end, np.empty(m), np.empty(n), np.empty(n)
+        )
         r = self.rec
         recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
         evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances)

@@ -148,7 +148,7 @@ def _robot(robot: Any) -> tuple[KinematicTarget, str | None, dict[str, Any]]:
 
 def _learner(defaults: dict[str, Any], given: dict[str, Any]) -> GoalBabbling:
     """The learner: values given, else the preset's, else the table's defaults (gb_pin.learn.config)."""
-    params = {}
+    params: dict[str, Any] = {}
     for name in NAMES:
         value = given.get(name)
         params[name] = value if value is not None else defaults.get(name, BY_NAME[name].default)

@@ -14,7 +14,7 @@ from gb_pin.exceptions import ResultFileError
 
 
 def atomic_savez(path: str, arrays: dict[str, Any], meta: dict[str, Any], compress: bool = False) -> None:
-    """Write ``arrays`` and a JSON header ``meta`` to ``path`` atomically (:func:`gb_pin._files.atomic_write`).
+    """Write ``arrays`` and a JSON header ``meta`` to ``path`` atomically (``gb_pin._files.atomic_write``).
 
     A crash at any moment leaves either the previous file or the new one, never half a file.
     """
