@@ -77,8 +77,14 @@ def test_import_gb_pin_is_lazy_and_loads_no_compiler_or_robot_library() -> None:
 
 def test_every_public_name_resolves_and_is_listed() -> None:
     """Each name of gb_pin.__all__ resolves to an object defined in the module the export table names."""
+    import gb_pin.learn
+
+    assert sorted(gb_pin.__all__) == sorted([*gb_pin._EXPORTS, "__version__"])
+    assert sorted(gb_pin.learn.__all__) == sorted(gb_pin.learn._EXPORTS)
     for name in gb_pin.__all__:
         assert getattr(gb_pin, name) is not None
+    for name in gb_pin.learn.__all__:
+        assert getattr(gb_pin.learn, name) is not None
     assert set(gb_pin.__all__) <= set(dir(gb_pin))
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         _ = gb_pin.nope  # type: ignore[attr-defined]

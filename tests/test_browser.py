@@ -26,8 +26,9 @@ from PIL import Image
 
 import gb_pin
 from gb_pin.viewer import Viewer, export_replay
-from gb_pin.viewer.scene import CAMERA_FOV, LINK_COLOR, Scene
-from gb_pin.viewer.server import OfflineWindow
+from gb_pin.viewer.cache import OfflineWindow
+from gb_pin.viewer.scene import Scene
+from gb_pin.viewer.style import CAMERA_FOV, LINK_COLOR
 
 WIDTH, HEIGHT = 800, 600
 

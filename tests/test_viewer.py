@@ -6,6 +6,7 @@ Live streaming is checked as meshcat's own tests do: a websocket client connects
 
 from __future__ import annotations
 
+import ast
 import asyncio
 import base64
 import json
@@ -17,6 +18,7 @@ import sys
 import threading
 import time
 import warnings
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,7 @@ import pytest
 import umsgpack
 
 import gb_pin
+import gb_pin.viewer
 from gb_pin.cli import main
 from gb_pin.viewer import (
     Viewer,
@@ -37,18 +40,14 @@ from gb_pin.viewer import (
     parse_range,
     select_movements,
 )
-from gb_pin.viewer.scene import (
-    OVERLAY,
-    ROBOT,
-    TARGET,
-    Scene,
-    StickFigure,
-    _transform_message,
-    grid_edges,
-    grid_shape,
-    quaternions,
-)
-from gb_pin.viewer.server import CONTENT_SECURITY_POLICY, LOOPBACK, LocalServer, OfflineWindow
+from gb_pin.viewer.cache import OfflineWindow
+from gb_pin.viewer.commands import transform_message
+from gb_pin.viewer.geometry import grid_edges, grid_shape, quaternions
+from gb_pin.viewer.page import CONTENT_SECURITY_POLICY
+from gb_pin.viewer.scene import Scene
+from gb_pin.viewer.server import LOOPBACK, LocalServer
+from gb_pin.viewer.stick import StickFigure
+from gb_pin.viewer.style import OVERLAY, ROBOT, TARGET
 
 RECORDED = 10  # movements recorded in the fixture run
 
@@ -184,6 +183,97 @@ def test_missing_meshcat_is_a_viewer_error(monkeypatch: pytest.MonkeyPatch) -> N
         assert open_viewer() is None
 
 
+VIEWER_PACKAGE_SCRIPT = """
+import json, os, sys
+import gb_pin.viewer as viewer
+names = {n: getattr(viewer, n).__module__ if callable(getattr(viewer, n)) else None for n in viewer.__all__}
+loaded = [m for m in ("meshcat", "tornado", "umsgpack", "pinocchio", "numba") if m in sys.modules]
+import gb_pin
+result = gb_pin.babble("planar3", movements=3, seed=0)
+viewer.export_model(result, os.path.join(sys.argv[1], "m.html"))
+print(json.dumps({"names": names, "loaded": loaded, "meshes": "gb_pin.viewer.meshes" in sys.modules}))
+"""
+
+
+def test_viewer_names_resolve_lazily_and_a_stick_figure_loads_no_mesh_code(tmp_path: Path) -> None:
+    """Every public name resolves without loading meshcat, tornado or pinocchio.
+
+    Drawing a robot without meshes never loads the mesh module (the viewer's only Pinocchio user).
+    """
+    out = subprocess.run(
+        [sys.executable, "-c", VIEWER_PACKAGE_SCRIPT, str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout.splitlines()[-1])
+    assert set(report["names"]) == set(gb_pin.viewer.__all__)
+    assert report["names"]["Viewer"] == "gb_pin.viewer.live"
+    assert report["loaded"] == []
+    assert report["meshes"] is False
+    assert set(gb_pin.viewer.__all__) <= set(dir(gb_pin.viewer))
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        _ = gb_pin.viewer.nope  # type: ignore[attr-defined]
+
+
+def _viewer_imports() -> dict[str, set[str]]:
+    """Per module of gb_pin.viewer: every module it imports (at module level, in functions, for typing).
+
+    The package itself counts as ``gb_pin.viewer.__init__``.
+    """
+    root = Path(gb_pin.viewer.__file__).parent
+    modules = {p.stem for p in root.glob("*.py")}
+    out: dict[str, set[str]] = {}
+    for path in root.glob("*.py"):
+        deps: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                deps.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.module == "gb_pin.viewer":
+                # a submodule (from gb_pin.viewer import shapes) or a name of the package itself
+                deps.update(
+                    f"gb_pin.viewer.{a.name if a.name in modules else '__init__'}" for a in node.names
+                )
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                deps.add(node.module)
+        out[path.stem] = {"gb_pin.viewer.__init__" if d == "gb_pin.viewer" else d for d in deps}
+    return out
+
+
+def test_viewer_modules_import_acyclically_and_only_meshes_imports_pinocchio() -> None:
+    """No module of the viewer imports one that imports it back, nor the package itself.
+
+    Imports inside functions and for typing only count too. Pinocchio is imported by
+    gb_pin.viewer.meshes only, tornado by the server (and the dependency check) only.
+    """
+    imports = _viewer_imports()
+    graph = {
+        m: {d.split(".")[2] for d in deps if d.startswith("gb_pin.viewer.")} - {m}
+        for m, deps in imports.items()
+    }
+    done: set[str] = set()
+
+    def visit(m: str, path: tuple[str, ...]) -> None:
+        assert m not in path, f"import cycle: {' -> '.join((*path, m))}"
+        if m not in done:
+            for d in sorted(graph[m]):
+                visit(d, (*path, m))
+            done.add(m)
+
+    for m in sorted(graph):
+        visit(m, ())
+    assert "__init__" not in set().union(*graph.values())  # nothing imports the package back
+
+    def users(library: str) -> set[str]:
+        return {m for m, deps in imports.items() if any(d.split(".")[0] == library for d in deps)}
+
+    assert users("pinocchio") == {"meshes"}
+    assert users("tornado") == {"server", "dependencies"}
+    assert users("meshcat") == {"shapes", "meshes", "dependencies"}
+
+
 def test_cli_view_without_meshcat_still_babbles(monkeypatch: pytest.MonkeyPatch, capsys: Any) -> None:
     """`gb-pin babble --view` without meshcat prints a warning and babbles to the end (exit 0)."""
     monkeypatch.setitem(sys.modules, "meshcat", None)
@@ -316,7 +406,7 @@ def test_transform_message_is_meshcat_encoding() -> None:
     T = np.random.default_rng(0).normal(size=(4, 4))
     path = "/meshcat/gb_pin/robot/j3"
     expected = umsgpack.packb({"type": "set_transform", "path": path, "matrix": list(T.T.flatten())})
-    assert _transform_message(path, T)[2] == expected
+    assert transform_message(path, T)[2] == expected
 
 
 def test_quaternions_match_pinocchio() -> None:
@@ -374,6 +464,37 @@ def test_stick_figure_follows_any_model() -> None:
     q = np.array([0.3, -0.2, 0.5])
     bones = figure.skeleton(q)
     np.testing.assert_allclose(bones[-1], target.forward(q), atol=1e-12)
+
+
+def test_stick_figure_places_nodes_where_pinocchio_does() -> None:
+    """Each joint node and the effector node sit where Pinocchio puts them.
+
+    The model has a locked joint, a rotated joint placement and a rotated frame; the figure evaluates
+    the target's chain, not Pinocchio.
+    """
+    model = pin.Model()
+    j1 = model.addJoint(0, pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([0.0, 0.0, 0.1])), "j1")
+    rot = pin.utils.rotate("x", 0.4)
+    j2 = model.addJoint(j1, pin.JointModelRY(), pin.SE3(rot, np.array([0.3, 0.0, 0.0])), "j2")
+    j3 = model.addJoint(j2, pin.JointModelPX(), pin.SE3(np.eye(3), np.array([0.2, 0.1, 0.0])), "j3")
+    j4 = model.addJoint(j3, pin.JointModelRX(), pin.SE3(np.eye(3), np.array([0.0, 0.2, 0.0])), "j4")
+    for j in (j1, j2, j3, j4):
+        model.addJointFrame(j)
+    tip = pin.SE3(pin.utils.rotate("z", 0.7), np.array([0.0, 0.0, 0.15]))
+    model.addFrame(pin.Frame("tip", j4, 0, tip, pin.FrameType.OP_FRAME))
+    target = gb_pin.KinematicTarget(model, "tip", joints=["j1", "j2", "j4"], axes="xyz")  # j3 locked
+    figure = StickFigure(target)
+    data = target.model.createData()
+    for q in np.random.default_rng(5).uniform(-2.0, 2.0, size=(5, 3)):
+        pin.framesForwardKinematics(target.model, data, target.to_pinocchio(q))
+        tf = dict(figure.transforms(q))
+        assert len(tf) == target.model.njoints  # one node per joint, and the effector
+        for j in range(1, target.model.njoints):
+            np.testing.assert_allclose(tf[figure.joint_path(j)], data.oMi[j].homogeneous, atol=1e-12)
+        np.testing.assert_allclose(
+            tf[figure.effector_path], data.oMf[target.frame_id].homogeneous, atol=1e-12
+        )
+        np.testing.assert_allclose(figure.effector(q), target.forward(q), atol=1e-12)
 
 
 # -- recording, replay, export --------------------------------------------------------------------------
@@ -445,8 +566,29 @@ def test_export_errors(tmp_path: Any) -> None:
     plain = gb_pin.babble("planar3", movements=3, seed=0)
     with pytest.raises(gb_pin.InvalidArgumentError, match="--record-every"):
         export_replay(plain, tmp_path / "x.html")
-    with pytest.raises(gb_pin.InvalidArgumentError, match="cannot write"):
+    with pytest.raises(gb_pin.InvalidArgumentError, match=r"cannot write .*missing"):
         export_model(plain, tmp_path / "missing" / "x.html")
+
+
+def test_export_replaces_the_file_atomically(run: gb_pin.BabbleResult, tmp_path: Any) -> None:
+    """An export replaces an existing page whole and leaves no temporary file.
+
+    A failed one leaves the previous page untouched.
+    """
+    path = tmp_path / "page.html"
+    path.write_text("old page")
+    export_model(run, path)
+    assert "MeshCat.Viewer" in path.read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["page.html"]
+    before = path.read_text()
+    with pytest.raises(gb_pin.InvalidArgumentError, match="speed"):
+        export_replay(run, path, speed=0.0)
+    assert path.read_text() == before
+    blocked = tmp_path / "dir.html"
+    blocked.mkdir()
+    with pytest.raises(gb_pin.InvalidArgumentError, match=re.escape(repr(str(blocked)))):
+        export_model(run, blocked)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.html", "page.html"]
 
 
 # -- command line ----------------------------------------------------------------------------------------
@@ -538,8 +680,6 @@ def test_mesh_robot_is_drawn_with_its_meshes() -> None:
 
     Each mesh is placed where pinocchio.updateGeometryPlacements puts it.
     """
-    if not hasattr(gb_pin.KinematicTarget, "from_example_robot_data"):
-        pytest.skip("this gb_pin has no example-robot-data loader")
     from gb_pin.robot.models import example_robot_data_dir
 
     target = gb_pin.KinematicTarget.from_example_robot_data("ur5", "tool0")

@@ -86,7 +86,7 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     return total, smallest
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def llm_jacobian(x, lm, K):  # type: ignore[no-untyped-def]
     """dg/dx into ``lm.J`` (m, n) and g(x) into ``lm.g`` (m,), responsibilities' derivative included.
 
@@ -126,7 +126,7 @@ def llm_jacobian(x, lm, K):  # type: ignore[no-untyped-def]
             J[i, j] *= inv
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def llm_insert(x, lm, K):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 

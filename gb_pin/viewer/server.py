@@ -1,188 +1,40 @@
-"""Transport of the meshcat viewer: a scene cache, a self-contained HTML export, a loopback-only server.
+"""meshcat's viewer served on 127.0.0.1 only, by a tornado server in a background thread of this process.
 
 meshcat 0.3.2's own server (``meshcat.servers.zmqserver``) binds its web port to
 every interface and relays each command through a zmq round trip to a second
-process. This module replaces it: a tornado server in a background thread of the
-calling process listens on 127.0.0.1 only, serves meshcat's bundled viewer
-(``meshcat/viewer/dist``, nothing from the network) and forwards commands to the
-connected browsers. A window object here has the ``send(command)`` method of
-``meshcat.visualizer.ViewerWindow``, so ``meshcat.Visualizer(window=...)`` (and
-with it pinocchio's ``MeshcatVisualizer``) draws through it unchanged.
+process. :class:`LocalServer` replaces it: it listens on 127.0.0.1 only, answers only
+requests whose Host header names that address (no DNS rebinding), serves meshcat's
+bundled viewer (``meshcat/viewer/dist``, nothing from the network) and forwards
+commands to the connected browsers. It has the ``send(command)`` method of
+``meshcat.visualizer.ViewerWindow``, so ``meshcat.Visualizer(window=...)`` (and with
+it pinocchio's ``MeshcatVisualizer``) draws through it unchanged.
 """
 
 from __future__ import annotations
 
 import asyncio
-import base64
 import contextlib
-import json
-import os
 import socket
 import threading
-import warnings
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
-from typing import Any, Protocol
+from typing import Any
 
 import tornado.httpserver
 import tornado.ioloop
 import tornado.netutil
 import tornado.web
 import tornado.websocket
-import umsgpack
 
 from gb_pin.exceptions import ViewerError
-
-with warnings.catch_warnings():
-    # meshcat 0.3.2 imports its zmq server, which imports a module pyzmq deprecated.
-    warnings.simplefilter("ignore", DeprecationWarning)
-    import meshcat
+from gb_pin.viewer.cache import SceneCache
+from gb_pin.viewer.commands import Command, Encoded, encode, property_of
+from gb_pin.viewer.dependencies import viewer_assets
 
 LOOPBACK = "127.0.0.1"
 DEFAULT_PORT = 7000
 PORT_ATTEMPTS = 20
-VIEWER_ROOT = os.path.join(meshcat.viewer_assets_path(), "dist")
-# The static page may run inline scripts and styles and read data: images (meshcat's
-# textures); it may load, fetch and connect to nothing.
-CONTENT_SECURITY_POLICY = (
-    "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:"
-)
-
-
-class Command(Protocol):
-    """A meshcat command (``meshcat.commands.SetObject`` and friends)."""
-
-    def lower(self) -> dict[str, Any]:
-        """The command as a msgpack-able dict with ``type`` and ``path``."""
-
-
-def encode(command: Command | dict[str, Any], single: bool = False) -> tuple[str, str, bytes]:
-    """(type, path, msgpack bytes) of a command; ``single`` packs floats as float32 (animations)."""
-    data = command if isinstance(command, dict) else command.lower()
-    packed = umsgpack.packb(data, force_float_precision="single") if single else umsgpack.packb(data)
-    return str(data["type"]), str(data.get("path", "")), packed
-
-
-def _split(path: str) -> tuple[str, ...]:
-    return tuple(p for p in path.split("/") if p)
-
-
-class SceneCache:
-    """The scene as a browser sees it: per path the last object, transform and properties; one animation.
-
-    Unlike meshcat's server, repeated ``set_property`` calls replace each other (a
-    live viewer toggles visibility at every frame), so the cache stays bounded.
-    """
-
-    def __init__(self) -> None:
-        self._objects: dict[tuple[str, ...], bytes] = {}
-        self._transforms: dict[tuple[str, ...], bytes] = {}
-        self._properties: dict[tuple[tuple[str, ...], str], bytes] = {}
-        self._animation: bytes | None = None
-
-    def apply(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
-        """Record one command."""
-        key = _split(path)
-        if kind == "set_object":
-            self._objects[key] = data
-        elif kind == "set_transform":
-            self._transforms[key] = data
-        elif kind == "set_property":
-            self._properties[(key, prop)] = data
-        elif kind == "set_animation":
-            self._animation = data
-        elif kind == "delete":
-            n = len(key)
-            for table in (self._objects, self._transforms):
-                for k in [k for k in table if k[:n] == key]:
-                    del table[k]
-            for pk in [pk for pk in self._properties if pk[0][:n] == key]:
-                del self._properties[pk]
-            if n == 0:
-                self._animation = None
-
-    def messages(self) -> list[bytes]:
-        """Commands that rebuild the scene: objects, properties, transforms, then the animation."""
-        out = [*self._objects.values(), *self._properties.values(), *self._transforms.values()]
-        if self._animation is not None:
-            out.append(self._animation)
-        return out
-
-    def html(self, title: str = "gb_pin") -> str:
-        """One self-contained HTML page showing the scene: meshcat's bundled viewer inlined, no network.
-
-        The commands are embedded as base64 msgpack and replayed synchronously on load,
-        in order; a Content-Security-Policy forbids every fetch and connection.
-        """
-        with open(os.path.join(VIEWER_ROOT, "main.min.js"), encoding="utf-8") as fh:
-            script = fh.read().replace("</script", "<\\/script")
-        commands = json.dumps([base64.b64encode(m).decode("ascii") for m in self.messages()])
-        safe_title = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-        return f"""<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<meta http-equiv="Content-Security-Policy" content="{CONTENT_SECURITY_POLICY}">
-<title>{safe_title}</title>
-<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-<script>
-{script}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-var commands = {commands};
-for (var i = 0; i < commands.length; i++) {{
-  var raw = atob(commands[i]);
-  var bytes = new Uint8Array(raw.length);
-  for (var j = 0; j < raw.length; j++) {{ bytes[j] = raw.charCodeAt(j); }}
-  viewer.handle_command_bytearray(bytes);
-}}
-</script>
-</body>
-</html>
-"""
-
-
-class OfflineWindow:
-    """A meshcat window without a server: it only records the scene, for HTML export."""
-
-    web_url = ""
-
-    def __init__(self) -> None:
-        self.scene = SceneCache()
-
-    def send(self, command: Command | dict[str, Any]) -> None:
-        """Record a meshcat command."""
-        self.send_encoded(*encode(command), prop=_property_of(command))
-
-    def send_encoded(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
-        """Record an already-encoded command."""
-        self.scene.apply(kind, path, data, prop)
-
-    def send_batch(self, batch: Sequence[tuple[str, str, bytes, str]]) -> None:
-        """Record encoded commands (kind, path, data, property) in order."""
-        for kind, path, data, prop in batch:
-            self.scene.apply(kind, path, data, prop)
-
-    def get_scene(self) -> str:
-        """The scene as one self-contained HTML page (``meshcat.Visualizer.static_html``)."""
-        return self.scene.html()
-
-    def wait(self) -> str:
-        """Nothing to wait for offline."""
-        return "ok"
-
-    def close(self) -> None:
-        """Nothing to close offline."""
-
-
-def _property_of(command: Command | dict[str, Any]) -> str:
-    if isinstance(command, dict):
-        return str(command.get("property", ""))
-    return str(getattr(command, "key", ""))
+VIEWER_ROOT = viewer_assets()
 
 
 def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
@@ -354,13 +206,13 @@ class LocalServer:
     # -- window interface (any thread) ----------------------------------------------------
     def send(self, command: Command | dict[str, Any]) -> None:
         """Send a meshcat command to every browser (and to those connecting later)."""
-        self.send_encoded(*encode(command), prop=_property_of(command))
+        self.send_encoded(*encode(command), prop=property_of(command))
 
     def send_encoded(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
         """Send an already-encoded command."""
         self.send_batch([(kind, path, data, prop)])
 
-    def send_batch(self, batch: Sequence[tuple[str, str, bytes, str]]) -> None:
+    def send_batch(self, batch: Sequence[Encoded]) -> None:
         """Send encoded commands (kind, path, data, property) in order; one wake-up of the server thread."""
         if self._closed_flag:
             return
