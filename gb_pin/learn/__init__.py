@@ -20,8 +20,9 @@ The names below are exported lazily (PEP 562): ``gb_pin.learn.config`` alone loa
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from gb_pin._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
     "FramePosition": "gb_pin.learn.body",
@@ -42,7 +43,7 @@ _EXPORTS: dict[str, str] = {
     "evaluation_schedule": "gb_pin.learn.metrics",
     "speed": "gb_pin.learn.metrics",
     "BabbleState": "gb_pin.learn.state",
-    "Kinematics": "gb_pin.learn.state",
+    "Kinematics": "gb_pin.learn.body.kinematics",
 }
 
 # the same names as _EXPORTS (a literal, for linters; tests/test_architecture.py checks it)
@@ -69,26 +70,16 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    """Import the module defining a public name on first use (PEP 562)."""
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'gb_pin.learn' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_EXPORTS})
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 if TYPE_CHECKING:
     from gb_pin.learn.body import FramePosition, KinematicChain, TaskMap
+    from gb_pin.learn.body.kinematics import Kinematics
     from gb_pin.learn.config import HYPERPARAMETERS, BabbleConfig, default_sigma
     from gb_pin.learn.goals import CyclicGoals, GoalGenerator, PythonGoals, UniformGoals
     from gb_pin.learn.history import History, RecordedSteps, Recording
     from gb_pin.learn.learner import GoalBabbling
     from gb_pin.learn.llm import LocalLinearMap
     from gb_pin.learn.metrics import evaluation_schedule, speed
-    from gb_pin.learn.state import BabbleState, Kinematics
+    from gb_pin.learn.state import BabbleState

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from gb_pin.learn.body.chain import Body
 from gb_pin.learn.goals.base import GoalArrays
-from gb_pin.learn.llm_kernels import MapArrays
+from gb_pin.learn.llm_kernels import MapArrays, Scratch
 
 # Indices into the int64 counters (Run.counters), saved in checkpoints as "istate".
 MOVEMENTS = 0  # r: completed movements, home returns included
@@ -69,10 +69,11 @@ class Noise(NamedTuple):
 
 
 class Learner(NamedTuple):
-    """What learns: hyperparameters, the local-linear map, the exploration noise."""
+    """What learns: hyperparameters, the local-linear map (and its scratch buffers), the exploration noise."""
 
     hyper: Hyper
     lm: MapArrays
+    scratch: Scratch
     noise: Noise
 
 
@@ -159,4 +160,5 @@ __all__ = [
     "Recorder",
     "Robot",
     "Run",
+    "Scratch",
 ]

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, NotFittedError
-from gb_pin.learn.llm_kernels import MapArrays, llm_jacobian, llm_learn, llm_predict_many
+from gb_pin.learn.llm_kernels import MapArrays, Scratch, llm_jacobian, llm_learn, llm_predict_many
 
 
 class LocalLinearMap:
@@ -91,7 +91,12 @@ class LocalLinearMap:
     def kernel(self) -> MapArrays:
         """The storage and scratch buffers as the compiled kernels take them."""
         self._check_fitted()
-        return MapArrays(self._P, self._W, self._O, self._radius, self._act, self._g, self._y, self._J)
+        return MapArrays(self._P, self._W, self._O, self._radius, self._act)
+
+    def scratch(self) -> Scratch:
+        """The buffers of learning steps and Jacobians."""
+        self._check_fitted()
+        return Scratch(self._g, self._y, self._J)
 
     @property
     def capacity(self) -> int:
@@ -207,7 +212,7 @@ class LocalLinearMap:
         """dg/dx at one input (n,) -> (m, n), derivative of the responsibilities included."""
         self._check_fitted()
         xv = check.vector("x", x, self.n_inputs_)
-        llm_jacobian(xv, self.kernel(), self._K)
+        llm_jacobian(xv, self.kernel(), self._K, self.scratch())
         return self._J.copy()
 
     def partial_fit(
@@ -233,5 +238,5 @@ class LocalLinearMap:
             )
         for r in range(pts.shape[0]):
             self.reserve(self._K + 1)
-            self._K = llm_learn(pts[r], Q[r], float(w[r]), eta, self.kernel(), self._K)
+            self._K = llm_learn(pts[r], Q[r], float(w[r]), eta, self.kernel(), self._K, self.scratch())
         return self

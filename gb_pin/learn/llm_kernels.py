@@ -12,7 +12,7 @@ Conventions (the paper is silent; these reproduce its numbers):
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
 The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
-matrices W (K, m, n), offsets O (K, m), and scratch buffers): no allocation per step.
+matrices W (K, m, n), offsets O (K, m); :class:`Scratch` buffers): no allocation per step.
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
@@ -27,17 +27,14 @@ from numpy.typing import NDArray
 
 
 class MapArrays(NamedTuple):
-    """A local-linear map's storage and scratch buffers, as the compiled kernels take them.
+    """A local-linear map's storage, as the compiled kernels take it (what a prediction reads).
 
     Attributes:
         prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
         matrices: (capacity, m, n) local matrices W_k (acting on (x - p_k) / d).
         offsets: (capacity, m) local offsets o_k.
         radius: d [m].
-        act: (capacity,) scratch: activations.
-        g: (m,) scratch: g(x).
-        y: (m,) scratch: one local model's output, or the error q - g(x).
-        J: (m, n) scratch: dg/dx.
+        act: (capacity,) scratch: the activations of the last prediction.
     """
 
     prototypes: NDArray[np.float64]
@@ -45,6 +42,17 @@ class MapArrays(NamedTuple):
     offsets: NDArray[np.float64]
     radius: float
     act: NDArray[np.float64]
+
+
+class Scratch(NamedTuple):
+    """Buffers of learning steps and Jacobians (kept apart so that predictions pass less).
+
+    Attributes:
+        g: (m,) g(x).
+        y: (m,) one local model's output, or the error q - g(x).
+        J: (m, n) dg/dx.
+    """
+
     g: NDArray[np.float64]
     y: NDArray[np.float64]
     J: NDArray[np.float64]
@@ -87,22 +95,14 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def llm_jacobian(x, lm, K):  # type: ignore[no-untyped-def]
-    """dg/dx into ``lm.J`` (m, n) and g(x) into ``lm.g`` (m,), responsibilities' derivative included.
+def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
+    """dg/dx into ``scratch.J`` (m, n) and g(x) into ``scratch.g`` (m,), the responsibilities' derivative in.
 
     With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
     J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
     """
-    P, W, O, act, radius, g, y, J = (
-        lm.prototypes,
-        lm.matrices,
-        lm.offsets,
-        lm.act,
-        lm.radius,
-        lm.g,
-        lm.y,
-        lm.J,
-    )
+    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    g, y, J = scratch
     n = x.shape[0]
     m = g.shape[0]
     inv = 1.0 / radius
@@ -127,13 +127,14 @@ def llm_jacobian(x, lm, K):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def llm_insert(x, lm, K):  # type: ignore[no-untyped-def]
+def llm_insert(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 
     The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
     """
-    P, W, O, radius, g, J = lm.prototypes, lm.matrices, lm.offsets, lm.radius, lm.g, lm.J
-    llm_jacobian(x, lm, K)
+    P, W, O, radius = lm.prototypes, lm.matrices, lm.offsets, lm.radius
+    g, J = scratch.g, scratch.J
+    llm_jacobian(x, lm, K, scratch)
     n = x.shape[0]
     m = g.shape[0]
     for j in range(n):
@@ -146,20 +147,21 @@ def llm_insert(x, lm, K):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def llm_learn(x, q, w, eta, lm, K):  # type: ignore[no-untyped-def]
+def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     """One online step on the example (x, q) with weight w; returns the new prototype count.
 
     Inserts a prototype first if ``x`` is at distance >= d from all prototypes,
     then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
     o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
     """
-    P, W, O, act, radius, g, y = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius, lm.g, lm.y
+    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    g, y = scratch.g, scratch.y
     n = x.shape[0]
     m = q.shape[0]
     inv = 1.0 / radius
     total, smallest = llm_predict(x, lm, K, g)
     if smallest >= 1.0:
-        K = llm_insert(x, lm, K)
+        K = llm_insert(x, lm, K, scratch)
         total, smallest = llm_predict(x, lm, K, g)
     if w == 0.0:
         return K

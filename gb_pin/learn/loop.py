@@ -65,14 +65,9 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
                 return DONE
             if not _begin_movement(rng, learner.hyper.p_home, run, goals):
                 return NEED_GOAL
-        if counters[PROTOTYPES] >= learner.lm.prototypes.shape[0]:
-            return NEED_CAPACITY
-        rec = monitor.recorder
-        recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
-        if recording and counters[RECORDED] >= rec.step.shape[0]:
-            return NEED_RECORD_CAPACITY
-        if not _step(rng, learner, robot, run, rec, recording):
-            return NOT_FINITE
+        status = _movement(rng, learner, robot, run, monitor.recorder)
+        if status != DONE:
+            return status
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -117,64 +112,82 @@ def _begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _step(rng, learner, robot, run, rec, recording):  # type: ignore[no-untyped-def]
-    """One time step: posture, forward kinematics, weights, learning, noise walk; False if it diverged."""
+def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
+    """The remaining steps of the current movement (Eqs. 1-7); DONE when it is complete.
+
+    Returns early with NEED_CAPACITY / NEED_RECORD_CAPACITY when a buffer is full (the step is
+    then redone after the caller grew it) or NOT_FINITE when the estimate diverged. The arrays
+    are taken out of their structures once per movement, not once per step.
+    """
     counters = run.counters
     mo = run.motion
-    hyper = learner.hyper
-    home, lower, upper = robot.limits
     q, x, target = mo.q, mo.x, mo.target
+    q_prev, q_start, x_prev, target_prev = mo.q_prev, mo.q_start, mo.x_prev, mo.target_prev
+    path_start, path_end = mo.path_start, mo.path_end
+    hyper = learner.hyper
+    lm, scratch = learner.lm, learner.scratch
+    A, b = learner.noise.A, learner.noise.b
+    home, lower, upper = robot.limits
+    body = robot.body
+    eta, sigma, sigma_delta = hyper.learning_rate, hyper.sigma, hyper.sigma_delta
+    capacity = lm.prototypes.shape[0]
     L = hyper.path_length
     m = q.shape[0]
     n = x.shape[0]
-    step = counters[STEP] + 1
     kind = counters[KIND]
-    a = (L - step) / L
-    bw = step / L
-    if kind == GOAL:
-        # Eq. 3: linear target path; Eq. 2: q_t = g(x*_t) + E_t(x*_t).
-        for j in range(n):
-            target[j] = a * mo.path_start[j] + bw * mo.path_end[j]
-        llm_predict(target, learner.lm, counters[PROTOTYPES], q)
-        noise_add(learner.noise.A, learner.noise.b, target, q)
-    else:
-        # Eq. 7: linear path in joint space from the last posture to home.
-        for i in range(m):
-            q[i] = a * mo.q_start[i] + bw * home[i]
-    finite = True
-    for i in range(m):
-        # A posture beyond 1e6 (rad or m) means the estimate has exploded.
-        if not (abs(q[i]) <= MAX_POSTURE):
-            finite = False
-        q[i] = min(max(q[i], lower[i]), upper[i])  # the robot executes the clipped posture
-    if not finite:
-        return False
-    body_forward(q, robot.body, x)  # Eq. 1
-    if recording:
-        _record(counters, rec, q, x, target, kind)
-    w = efficiency_weight(x, mo.x_prev, q, mo.q_prev)  # Eq. 5
-    if kind == GOAL:
-        w *= direction_weight(target, mo.target_prev, x, mo.x_prev)  # Eqs. 4, 6
-    counters[PROTOTYPES] = llm_learn(x, q, w, hyper.learning_rate, learner.lm, counters[PROTOTYPES])
-    noise_walk(rng, hyper.sigma, hyper.sigma_delta, learner.noise.A, learner.noise.b)
-    for i in range(m):
-        mo.q_prev[i] = q[i]
-    for j in range(n):
-        mo.x_prev[j] = x[j]
+    while True:
+        if counters[PROTOTYPES] >= capacity:
+            return NEED_CAPACITY
+        recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
+        if recording and counters[RECORDED] >= rec.step.shape[0]:
+            return NEED_RECORD_CAPACITY
+        step = counters[STEP] + 1
+        a = (L - step) / L
+        bw = step / L
         if kind == GOAL:
-            mo.target_prev[j] = target[j]
-    counters[STEP] = step
-    counters[STEPS] += 1
-    if step == L:
-        if kind == HOME:
-            # The next goal path starts at f(q_home), which is where the arm is.
+            # Eq. 3: linear target path; Eq. 2: q_t = g(x*_t) + E_t(x*_t).
             for j in range(n):
-                mo.path_end[j] = x[j]
-                mo.target_prev[j] = x[j]
-        counters[LAST_KIND] = kind
-        counters[KIND] = NONE
-        counters[MOVEMENTS] += 1
-    return True
+                target[j] = a * path_start[j] + bw * path_end[j]
+            llm_predict(target, lm, counters[PROTOTYPES], q)
+            noise_add(A, b, target, q)
+        else:
+            # Eq. 7: linear path in joint space from the last posture to home.
+            for i in range(m):
+                q[i] = a * q_start[i] + bw * home[i]
+        finite = True
+        for i in range(m):
+            # A posture beyond 1e6 (rad or m) means the estimate has exploded.
+            if not (abs(q[i]) <= MAX_POSTURE):
+                finite = False
+            q[i] = min(max(q[i], lower[i]), upper[i])  # the robot executes the clipped posture
+        if not finite:
+            return NOT_FINITE
+        body_forward(q, body, x)  # Eq. 1
+        if recording:
+            _record(counters, rec, q, x, target, kind)
+        w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
+        if kind == GOAL:
+            w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6
+        counters[PROTOTYPES] = llm_learn(x, q, w, eta, lm, counters[PROTOTYPES], scratch)
+        noise_walk(rng, sigma, sigma_delta, A, b)
+        for i in range(m):
+            q_prev[i] = q[i]
+        for j in range(n):
+            x_prev[j] = x[j]
+            if kind == GOAL:
+                target_prev[j] = target[j]
+        counters[STEP] = step
+        counters[STEPS] += 1
+        if step == L:
+            if kind == HOME:
+                # The next goal path starts at f(q_home), which is where the arm is.
+                for j in range(n):
+                    path_end[j] = x[j]
+                    target_prev[j] = x[j]
+            counters[LAST_KIND] = kind
+            counters[KIND] = NONE
+            counters[MOVEMENTS] += 1
+            return DONE
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -11,6 +11,7 @@ from gb_pin import _validation as check
 from gb_pin.exceptions import DivergenceError, InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.body.chain import KinematicChain
+from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.exploration import noise_init
 from gb_pin.learn.goals import GoalArrays, GoalGenerator, PythonGoals, make_goals
@@ -18,26 +19,6 @@ from gb_pin.learn.history import History, RecordedSteps, Recording
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.loop import babble_loop
 from gb_pin.learn.metrics import evaluation_schedule
-
-
-class Kinematics(Protocol):
-    """What the learner needs from a robot (a :class:`~gb_pin.robot.target.KinematicTarget` is one)."""
-
-    @property
-    def chain(self) -> KinematicChain:
-        """Compiled forward kinematics of the task map."""
-
-    @property
-    def home(self) -> NDArray[np.float64]:
-        """Home posture q_home, (m,)."""
-
-    @property
-    def lower(self) -> NDArray[np.float64]:
-        """Lower joint limits (m,), -inf where unbounded."""
-
-    @property
-    def upper(self) -> NDArray[np.float64]:
-        """Upper joint limits (m,), +inf where unbounded."""
 
 
 class BabbleState:
@@ -199,7 +180,7 @@ class BabbleState:
         recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
         evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances)
         return (
-            layout.Learner(hyper, self.llm.kernel(), layout.Noise(self.A, self.b)),
+            layout.Learner(hyper, self.llm.kernel(), self.llm.scratch(), layout.Noise(self.A, self.b)),
             layout.Robot(layout.Limits(self.home, self.lower, self.upper), self.chain.kernel()),
             layout.Run(motion, self.istate),
             self.goal_state,

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Protocol
 
 import numpy as np
 from numba import njit
@@ -33,6 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.learn.body.chain import PRISMATIC, KinematicChain, body_forward
+from gb_pin.learn.body.kinematics import Kinematics
 
 SAMPLES = 20000  # postures sampled per check (about 5 ms of forward kinematics for 7 joints)
 STARTS = 8  # descents started from the sampled postures closest to each point
@@ -42,24 +42,8 @@ _FD_STEP = 1e-7  # finite-difference step of the Jacobian [rad] or [m]
 _UNBOUNDED_PRISMATIC = 1.0  # sampling range of an unbounded prismatic joint [m]
 
 
-class Robot(Protocol):
-    """What the reachability checks need of a robot (a :class:`~gb_pin.robot.target.KinematicTarget`)."""
-
-    @property
-    def chain(self) -> KinematicChain:
-        """Compiled forward kinematics of the task map."""
-
-    @property
-    def home(self) -> NDArray[np.float64]:
-        """Home posture (m,), within the limits."""
-
-    @property
-    def lower(self) -> NDArray[np.float64]:
-        """Lower joint limits (m,), -inf where unbounded."""
-
-    @property
-    def upper(self) -> NDArray[np.float64]:
-        """Upper joint limits (m,), +inf where unbounded."""
+Robot = Kinematics
+"""What the reachability checks need of a robot: chain, home, lower, upper (a KinematicTarget is one)."""
 
 
 @dataclass(frozen=True, eq=False)

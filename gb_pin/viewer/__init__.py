@@ -35,8 +35,9 @@ Modules, each one concept (none imports one that imports it back):
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from gb_pin._lazy import lazy_exports
 
 # public name -> the module that defines it (and the name there, if another)
 _EXPORTS: dict[str, tuple[str, str]] = {
@@ -76,18 +77,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    where = _EXPORTS.get(name)
-    if where is None:
-        raise AttributeError(f"module 'gb_pin.viewer' has no attribute {name!r}")
-    module, attribute = where
-    value = getattr(importlib.import_module(module), attribute)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_EXPORTS})
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers

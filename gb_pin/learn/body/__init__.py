@@ -2,6 +2,7 @@
 
 from gb_pin.learn.body.chain import Body, KinematicChain, body_forward
 from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
+from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.body.task import FRAME_POSITION, FramePosition, TaskArrays, TaskMap, task_forward
 
 __all__ = [
@@ -12,6 +13,7 @@ __all__ = [
     "FramePosition",
     "Joints",
     "KinematicChain",
+    "Kinematics",
     "TaskArrays",
     "TaskMap",
     "body_forward",

@@ -43,7 +43,7 @@ class Body(NamedTuple):
     pos_ws: NDArray[np.float64]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(cache=True, nogil=True, error_model="numpy")
 def body_forward(q, body, out):  # type: ignore[no-untyped-def]
     """x = f(q) into ``out`` (n,) for one posture ``q`` (m,) (Eq. 1)."""
     joints_forward(q, body.joints, body.rot_ws, body.pos_ws)

@@ -39,7 +39,7 @@ class Joints(NamedTuple):
     q_index: NDArray[np.int64]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def joints_forward(q, joints, rot_ws, pos_ws):  # type: ignore[no-untyped-def]
     """Each joint's world rotation into ``rot_ws`` (m, 3, 3) and position into ``pos_ws`` (m, 3).
 
