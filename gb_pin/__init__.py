@@ -49,6 +49,10 @@ _EXPORTS: dict[str, str] = {
     "BabbleResult": "gb_pin.runs.result",
     "babble": "gb_pin.runs.api",
     "resume": "gb_pin.runs.api",
+    "BabbleSession": "gb_pin.runs.session",
+    "babble_session": "gb_pin.runs.session",
+    "FunctionTarget": "gb_pin.robot.function",
+    "ChangedBody": "gb_pin.robot.bodies",
     "load_result": "gb_pin.runs.result",
     "save_result": "gb_pin.runs.result",
     "Condition": "gb_pin.experiments.trials",
@@ -63,9 +67,12 @@ _EXPORTS: dict[str, str] = {
 __all__ = [
     "BabbleConfig",
     "BabbleResult",
+    "BabbleSession",
     "BabbleState",
+    "ChangedBody",
     "Condition",
     "DivergenceError",
+    "FunctionTarget",
     "GbPinError",
     "GbPinWarning",
     "GoalBabbling",
@@ -85,6 +92,7 @@ __all__ = [
     "UnreachableTargetWarning",
     "__version__",
     "babble",
+    "babble_session",
     "conditions_grid",
     "default_sigma",
     "evaluation_schedule",
@@ -124,9 +132,12 @@ if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
     from gb_pin.learn.llm import LocalLinearMap
     from gb_pin.learn.metrics import evaluation_schedule, speed
     from gb_pin.learn.state import BabbleState
+    from gb_pin.robot.bodies import ChangedBody
+    from gb_pin.robot.function import FunctionTarget
     from gb_pin.robot.grids import grid_targets
     from gb_pin.robot.planar import planar_chain, planar_home
     from gb_pin.robot.presets import RobotPreset, load_robot, robots
     from gb_pin.robot.target import KinematicTarget
     from gb_pin.runs.api import babble, resume
     from gb_pin.runs.result import BabbleResult, load_result, save_result
+    from gb_pin.runs.session import BabbleSession, babble_session

@@ -141,7 +141,7 @@ def test_cli_imports_go_one_way() -> None:
     """__init__ -> parser -> commands -> options; nothing outside gb_pin/cli imports gb_pin.cli."""
     package = Path(gb_pin.__file__).parent
     cli = package / "cli"
-    commands = {"babble", "bench", "reproduce", "robots", "trials", "viewing"}
+    commands = {"babble", "bench", "ik", "reproduce", "robots", "trials", "viewing"}
     allowed = {"__init__": {"parser"}, "parser": {*commands, "options"}, "options": set()}
     for path in sorted(cli.glob("*.py")):
         if path.stem == "__main__":
@@ -153,3 +153,41 @@ def test_cli_imports_go_one_way() -> None:
     for path in package.rglob("*.py"):
         if cli not in path.parents:
             assert not any(m.startswith("gb_pin.cli") for m in _imports(path)), path
+
+
+def test_ik_solves_coordinates_and_csv_targets_and_rejects_bad_input(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`gb-pin ik run.npz X Y` and `--targets points.csv [--json]`; bad input: one error line, exit 2."""
+    import json
+
+    result = gb_pin.babble("planar5", movements=300, seed=1)
+    run = str(tmp_path / "run.npz")
+    result.save(run)
+    x, y = result.targets[0]
+    assert main(["ik", run, str(x), str(y)]) == 0
+    out = capsys.readouterr().out
+    assert "1/1 solved to 0.0001 m" in out and "joints: " in out
+    csv = tmp_path / "points.csv"
+    csv.write_text("x,y\n# two targets\n" + "\n".join(f"{a},{b}" for a, b in result.targets[:2]) + "\n\n")
+    assert main(["ik", run, "--targets", str(csv), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["axes"] == "xy" and len(data["solutions"]) == 2
+    assert all(s["success"] and s["residual"] <= 1e-4 for s in data["solutions"])
+    np.testing.assert_allclose([s["target"] for s in data["solutions"]], result.targets[:2])
+    assert main(["ik", run, "5", "5"]) == 1  # beyond the arm's reach: printed, status 1
+    bad_csv = tmp_path / "bad.csv"
+    bad_csv.write_text("0.3,0.1\n0.3\n")
+    cases = [
+        ([run, "0.3"], "expected 2 coordinates"),
+        ([run, "0.3", "abc"], "'abc' is not a finite number"),
+        ([run, "--targets", str(bad_csv)], "bad.csv:2: expected 2 comma-separated coordinates"),
+        ([run, "--targets", str(tmp_path / "none.csv")], "cannot read"),
+        ([str(tmp_path / "none.npz"), "0.3", "0.1"], "no such result file"),
+        ([run], "expected 2 coordinates"),
+    ]
+    for argv, needle in cases:
+        proc = subprocess.run(
+            [sys.executable, "-m", "gb_pin.cli", "ik", *argv], capture_output=True, text=True, timeout=120
+        )
+        assert proc.returncode == 2, (argv, proc.stderr)
+        assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("gb-pin: error: ")
+        assert needle in proc.stderr

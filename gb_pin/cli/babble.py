@@ -29,7 +29,10 @@ def add_babble(sub: Subparsers) -> None:
 def _add_options(b: argparse.ArgumentParser) -> None:
     """``babble``'s options: the run, the learner, output, checkpoints, recording, viewer."""
     b.add_argument(
-        "--robot", default="planar20", help="preset name, e.g. planar5, planar20 (default planar20)"
+        "--robot",
+        default="planar20",
+        help="preset name, e.g. planar5, planar20 (default planar20), or MODULE:NAME (a module or a .py "
+        "file, and a robot in it or a function of no arguments returning one, e.g. a gb_pin.FunctionTarget)",
     )
     b.add_argument(
         "--movements", type=int, default=1000, help="movements, home returns included (default 1000)"
@@ -85,14 +88,20 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.runs.api import warmup
 
     done = _read_resume(args)
-    get_preset(args.robot)  # an unknown robot is reported before the kernels compile
+    robot: Any = args.robot
+    if ":" in args.robot:  # MODULE:NAME, loaded here so that a bad one is reported before compiling
+        from gb_pin.robot.spec import load_robot_spec
+
+        robot = load_robot_spec(args.robot)
+    else:
+        get_preset(args.robot)  # an unknown robot is reported before the kernels compile
     record = _recording(args)
     compile_time = warmup()
     viewer = _start_viewer(args)
     progress = _Progress(args.robot, args.movements, done, disable=args.quiet)
     start = time.perf_counter()
     try:
-        result = _run(args, progress, record, viewer)
+        result = _run(args, robot, progress, record, viewer)
     finally:
         progress.close()
         if viewer is not None:
@@ -121,7 +130,7 @@ def _read_resume(args: argparse.Namespace) -> int:
 
 
 def _run(
-    args: argparse.Namespace, progress: _Progress, record: Recording | None, viewer: Viewer | None
+    args: argparse.Namespace, robot: Any, progress: _Progress, record: Recording | None, viewer: Viewer | None
 ) -> BabbleResult:
     """The run itself: ``resume(...)`` of the checkpoint or a fresh ``babble(...)``."""
     from gb_pin.runs.api import babble, resume
@@ -137,7 +146,7 @@ def _run(
     if args.resume:
         return resume(args.resume, **common)
     return babble(
-        robot=args.robot,
+        robot=robot,
         movements=args.movements,
         seed=args.seed,
         checkpoint=args.checkpoint,
@@ -178,7 +187,8 @@ class _Progress:
 def _print_summary(args: argparse.Namespace, result: BabbleResult, wall: float, compile_time: float) -> None:
     """The summary of README.md: E^X, D^home, prototypes, wall time."""
     e0 = result.history.error[0]
-    print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {result.target.axes})")
+    axes = getattr(result.target, "axes", None) or f"{result.target.n_task} dimensions"
+    print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {axes})")
     print(f"movements        {result.movements} ({result.steps} steps), seed {args.seed}")
     print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
     print(f"D^home           {result.home_distance:.4f} rad")

@@ -12,6 +12,7 @@ import argparse
 
 from gb_pin.cli.babble import add_babble
 from gb_pin.cli.bench import add_bench
+from gb_pin.cli.ik import add_ik
 from gb_pin.cli.options import CommandParser
 from gb_pin.cli.reproduce import add_reproduce
 from gb_pin.cli.robots import add_robots
@@ -30,6 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_babble(sub)
     add_bench(sub)
     add_trials(sub)
+    add_ik(sub)
     add_reproduce(sub)
     add_replay_and_show(sub)
     add_robots(sub)

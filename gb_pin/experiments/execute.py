@@ -79,8 +79,11 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
     if not isinstance(condition, Condition):
         raise InvalidArgumentError(f"conditions must be gb_pin.Condition objects, got {condition!r}")
     if not isinstance(condition.robot, str):
-        raise InvalidArgumentError(f"robot must be a preset name for trials, got {condition.robot!r}")
-    get_preset(condition.robot)
+        raise InvalidArgumentError(
+            f"robot must be a preset name or MODULE:NAME for trials, got {condition.robot!r}"
+        )
+    if ":" not in condition.robot:  # MODULE:NAME robots are checked by the probe run below
+        get_preset(condition.robot)
     parameters = dict(condition.parameters)
     check_parameters(parameters)
     length = (

@@ -149,8 +149,8 @@ def format_markdown(results: Sequence[PresetResult], command: str = "", load: fl
     return "\n".join(lines)
 
 
-def update_document(path: str | os.PathLike[str], table: str) -> None:
-    """Replace the text between the benchmark markers of a markdown file with ``table``.
+def update_document(path: str | os.PathLike[str], table: str, *, begin: str = BEGIN, end: str = END) -> None:
+    """Replace the text between the markers ``begin`` and ``end`` of a markdown file with ``table``.
 
     Raises:
         GbPinError: the file lacks the markers.
@@ -161,10 +161,10 @@ def update_document(path: str | os.PathLike[str], table: str) -> None:
             text = fh.read()
     except OSError as exc:
         raise GbPinError(f"cannot read {path}: {exc}") from exc
-    pattern = re.compile(re.escape(BEGIN) + r".*?" + re.escape(END), re.S)
+    pattern = re.compile(re.escape(begin) + r".*?" + re.escape(end), re.S)
     if not pattern.search(text):
-        raise GbPinError(f"{path} has no benchmark markers ({BEGIN} ... {END})")
-    write_text(path, pattern.sub(lambda _: f"{BEGIN}\n{table}\n{END}", text))
+        raise GbPinError(f"{path} has no benchmark markers ({begin} ... {end})")
+    write_text(path, pattern.sub(lambda _: f"{begin}\n{table}\n{end}", text))
 
 
 def plot_curves(sets: Sequence[TrialSet], path: str | os.PathLike[str]) -> None:

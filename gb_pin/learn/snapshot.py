@@ -53,6 +53,10 @@ def state_to_arrays(st: BabbleState) -> dict[str, NDArray[Any]]:
         out[key] = st.vectors[key]
     for key, arr in st.rec.items():
         out["rec_" + key] = arr[:c]
+    if st.chain is None:
+        raise InvalidArgumentError(
+            "a run on a Python forward model (no compiled chain) cannot be checkpointed"
+        )
     out.update(st.chain.to_arrays())
     if st.changes:
         out["change_movements"] = np.array([at for at, _ in st.changes], dtype=np.int64)
@@ -113,8 +117,8 @@ def _fill(
 ) -> None:
     st.config = config
     st.rng = _rng(rng_state)
-    st.chain = KinematicChain.from_arrays(arrays)
-    m, n = st.chain.n_joints, st.chain.n_task
+    chain = st.chain = KinematicChain.from_arrays(arrays)
+    m, n = chain.n_joints, chain.n_task
     st.home = _real(arrays, "home", (m,))
     st.lower = _real(arrays, "lower", (m,), finite=False)
     st.upper = _real(arrays, "upper", (m,), finite=False)

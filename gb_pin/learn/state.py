@@ -36,7 +36,7 @@ class BabbleState:
     def __init__(self) -> None:
         self.rng: np.random.Generator
         self.config: BabbleConfig
-        self.chain: KinematicChain
+        self.chain: KinematicChain | None
         self.home: NDArray[np.float64]
         self.lower: NDArray[np.float64]
         self.upper: NDArray[np.float64]
@@ -76,8 +76,9 @@ class BabbleState:
         st = cls()
         st.rng = check.generator(seed)
         st.config = config
-        st.chain = kinematics.chain
-        m, n = st.chain.n_joints, st.chain.n_task
+        # A robot given as a Python forward model has no compiled chain (ask/tell runs only).
+        st.chain = getattr(kinematics, "chain", None)
+        m, n = (st.chain.n_joints, st.chain.n_task) if st.chain is not None else _dimensions(kinematics)
         st.home = check.vector("home", kinematics.home, m)
         st.lower = np.ascontiguousarray(kinematics.lower, dtype=float)
         st.upper = np.ascontiguousarray(kinematics.upper, dtype=float)
@@ -92,7 +93,11 @@ class BabbleState:
         st.goal_state = st.goals.start(st.targets)
         st.set_changes(changes or {})
 
-        x_home = st.chain.forward(st.home)
+        x_home = (
+            st.chain.forward(st.home)
+            if st.chain is not None
+            else check.vector("forward(home)", kinematics.forward(st.home.copy()), n)  # type: ignore[attr-defined]
+        )
         st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
             x_home, st.home
         )
@@ -123,6 +128,10 @@ class BabbleState:
             InvalidArgumentError: a movement count < 1, or a chain of other joint or task dimensions.
         """
         out = []
+        if changes and self.chain is None:
+            raise InvalidArgumentError(
+                "body changes need robots with a compiled chain (not a Python forward model)"
+            )
         for at, robot in sorted(dict(changes).items()):
             at = check.positive_int("changes movement", at)
             chain = getattr(robot, "chain", robot)
@@ -130,10 +139,12 @@ class BabbleState:
                 raise InvalidArgumentError(
                     f"changes[{at}] must be a robot or a KinematicChain, got {robot!r}"
                 )
-            if (chain.n_joints, chain.n_task) != (self.chain.n_joints, self.chain.n_task):
+            base = self.chain
+            assert base is not None
+            if (chain.n_joints, chain.n_task) != (base.n_joints, base.n_task):
                 raise InvalidArgumentError(
                     f"changes[{at}] has {chain.n_joints} joints and {chain.n_task} task axes; the run has "
-                    f"{self.chain.n_joints} and {self.chain.n_task}"
+                    f"{base.n_joints} and {base.n_task}"
                 )
             out.append((at, chain))
         self.changes = out
@@ -171,6 +182,7 @@ class BabbleState:
             int(cfg.path_length), float(cfg.p_home),
         )  # fmt: skip
         m, n = self.home.shape[0], self.targets.shape[1]
+        body = self.chain.kernel() if self.chain is not None else None
         v = self.vectors
         q_prev, q_start, x_prev, target_prev, path_start, path_end = (v[k] for k in self.VECTORS)
         motion = layout.Motion(
@@ -181,7 +193,7 @@ class BabbleState:
         evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances)
         return (
             layout.Learner(hyper, self.llm.kernel(), self.llm.scratch(), layout.Noise(self.A, self.b)),
-            layout.Robot(layout.Limits(self.home, self.lower, self.upper), self.chain.kernel()),
+            layout.Robot(layout.Limits(self.home, self.lower, self.upper), body),  # type: ignore[arg-type]
             layout.Run(motion, self.istate),
             self.goal_state,
             layout.Monitor(evaluation, recorder),
@@ -217,17 +229,20 @@ class BabbleState:
             if status == layout.NEED_CAPACITY:
                 self.llm.reserve(2 * self.llm.capacity)
             elif status == layout.NEED_RECORD_CAPACITY:
-                grow = max(16, 2 * self.rec["step"].shape[0])
-                for key, arr in self.rec.items():
-                    bigger = np.zeros((grow, *arr.shape[1:]), dtype=arr.dtype)
-                    bigger[: arr.shape[0]] = arr
-                    self.rec[key] = bigger
+                self._grow_recording()
             elif status == layout.NEED_GOAL:
                 self._python_goal()
                 continue  # nothing was reallocated
             else:
                 self._diverged()
             args = self.kernel_args()
+
+    def _grow_recording(self) -> None:
+        grow = max(16, 2 * self.rec["step"].shape[0])
+        for key, arr in self.rec.items():
+            bigger = np.zeros((grow, *arr.shape[1:]), dtype=arr.dtype)
+            bigger[: arr.shape[0]] = arr
+            self.rec[key] = bigger
 
     def _python_goal(self) -> None:
         goals = self.goals
@@ -287,6 +302,16 @@ class BabbleState:
             return None
         c = int(self.istate[layout.RECORDED])
         return RecordedSteps(**{k: self.rec[k][:c].copy() for k in RecordedSteps.FIELDS})
+
+
+def _dimensions(kinematics: Any) -> tuple[int, int]:
+    """(m, n) of a robot without a compiled chain (``n_joints``, ``n_task``)."""
+    try:
+        return int(kinematics.n_joints), int(kinematics.n_task)
+    except (AttributeError, TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"robot {kinematics!r} has neither a compiled chain nor n_joints and n_task"
+        ) from exc
 
 
 def _schedule(schedule: ArrayLike | None, movements: int) -> NDArray[np.int64]:

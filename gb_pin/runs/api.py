@@ -16,13 +16,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
-from gb_pin.learn.config import BY_NAME, NAMES
 from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import Recording
 from gb_pin.learn.learner import GoalBabbling
 from gb_pin.learn.state import BabbleState
-from gb_pin.robot.presets import get_preset, load_robot
+from gb_pin.robot.bodies import ChangedBody
+from gb_pin.robot.function import FunctionTarget
+from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs import setup
 from gb_pin.runs.result import BabbleResult
 
 
@@ -34,7 +36,7 @@ def warmup() -> float:
 
 
 def babble(
-    robot: str | KinematicTarget = "planar20",
+    robot: str | setup.Target = "planar20",
     movements: int = 1000,
     seed: int | np.random.Generator = 0,
     learning_rate: float | None = None,
@@ -54,6 +56,8 @@ def babble(
     checkpoint: str | os.PathLike[str] | None = None,
     checkpoint_every: int | None = None,
     goals: str | GoalGenerator | None = None,
+    changes: dict[int, Any] | None = None,
+    init: BabbleResult | None = None,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -62,8 +66,11 @@ def babble(
     radius 0.1 m, path_length 25, p_home 0.1.
 
     Args:
-        robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``) or a
-            :class:`~gb_pin.robot.target.KinematicTarget`.
+        robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``), a
+            :class:`~gb_pin.robot.target.KinematicTarget` or a
+            :class:`~gb_pin.robot.function.FunctionTarget` (a forward model, run step
+            by step; no viewer or checkpoints), a changed body (:mod:`gb_pin.robot.bodies`),
+            or ``"MODULE:NAME"`` naming one of those in a module or ``.py`` file.
         movements: number of movements (home returns included).
         seed: an int seed or a numpy Generator; same seed, same result.
         learning_rate: eta.
@@ -91,6 +98,12 @@ def babble(
         goals: who chooses each movement's goal: a
             :class:`~gb_pin.learn.goals.GoalGenerator` or its name; default the paper's
             uniform choice over ``targets`` (``"uniform"``).
+        changes: body changes ``{movement: robot}``: from movement r on the robot's
+            kinematics are those of the given robot (same joints and task axes; see
+            :mod:`gb_pin.robot.bodies`), one history throughout.
+        init: a previous :class:`BabbleResult` to continue learning from: its map, noise,
+            random stream (``seed`` is then not used), goal generator and posture carry
+            over to this robot (same joints and task axes); movements count from 0 again.
 
     Returns:
         A :class:`BabbleResult`.
@@ -100,32 +113,30 @@ def babble(
         InvalidArgumentError: any other bad argument.
         DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
-    target, name, defaults = _robot(robot)
+    target, name, defaults = setup.resolve_robot(robot)
     movements = check.positive_int("movements", movements)
-    if targets is None:
-        # A target without its own set learns the "auto" grid (reachable, around home, seeded).
-        X = target.targets if target.targets is not None else target.auto_targets()
-    else:
-        X = target.check_targets(targets)  # shape checks; warns about targets beyond reach
+    X = setup.target_set(target, targets)  # checked; warns about targets beyond reach
     given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
              "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
-    learner = _learner(defaults, given)
-    rng = check.generator(seed)
-    int_seed = None if isinstance(seed, np.random.Generator) else int(seed)
+    learner = setup.make_learner(defaults, given)
+    rng, int_seed = setup.generator(seed, init)
     if checkpoint_every is not None:
         check.positive_int("checkpoint_every", checkpoint_every)
+    if isinstance(target, FunctionTarget):
+        from gb_pin.runs.session import babble_function
+
+        return babble_function(target, learner, X, movements, rng, int_seed, callback, viewer, checkpoint,
+                                dict(eval_targets=eval_targets, schedule=schedule, record=record, goals=goals,
+                                     changes=changes, init=init))  # fmt: skip
+    learner.state_ = setup.start_state(
+        target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
+        goals=goals, changes=changes, init=init,
+    )  # fmt: skip
     runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
     observer = _attach(viewer, target, X)
     with _deferred_sigint(enabled=checkpoint is not None) as interrupted:
-        learner.fit(
-            target,
-            X,
+        learner.resume(
             movements,
-            seed=rng,
-            eval_targets=eval_targets,
-            schedule=schedule,
-            record=record,
-            goals=goals,
             callback=callback,
             observer=observer,
             observe_every=observe_every,
@@ -136,28 +147,9 @@ def babble(
     return runner.result(learner, interrupted())
 
 
-def _robot(robot: Any) -> tuple[KinematicTarget, str | None, dict[str, Any]]:
-    """(target, preset name or None, the preset's learner defaults)."""
-    if isinstance(robot, KinematicTarget):
-        return robot, None, {}
-    if isinstance(robot, str):
-        preset, _ = get_preset(robot)
-        return load_robot(robot), robot, dict(preset.learner)
-    raise InvalidArgumentError(f"robot must be a preset name or a KinematicTarget, got {robot!r}")
-
-
-def _learner(defaults: dict[str, Any], given: dict[str, Any]) -> GoalBabbling:
-    """The learner: values given, else the preset's, else the table's defaults (gb_pin.learn.config)."""
-    params: dict[str, Any] = {}
-    for name in NAMES:
-        value = given.get(name)
-        params[name] = value if value is not None else defaults.get(name, BY_NAME[name].default)
-    return GoalBabbling(**params)
-
-
 def resume(
     checkpoint: str | os.PathLike[str],
-    robot: KinematicTarget | None = None,
+    robot: KinematicTarget | ChangedBody | None = None,
     *,
     callback: Callable[[int], Any] | None = None,
     checkpoint_every: int | None = None,
@@ -188,9 +180,11 @@ def resume(
                 f"{info.target_name!r}; pass it as robot= to resume"
             )
         robot = load_robot(info.robot)
-    elif not isinstance(robot, KinematicTarget):
-        raise InvalidArgumentError(f"robot must be a KinematicTarget or None, got {robot!r}")
-    for f in fields(robot.chain):
+    elif not isinstance(robot, KinematicTarget | ChangedBody):
+        raise InvalidArgumentError(f"robot must be a KinematicTarget, a ChangedBody or None, got {robot!r}")
+    # After a scheduled body change the state's chain is the changed body's, not the robot's.
+    changed = any(at <= state.movements for at, _ in state.changes)
+    for f in () if changed or state.chain is None else fields(robot.chain):
         if not np.array_equal(
             np.asarray(getattr(robot.chain, f.name)), np.asarray(getattr(state.chain, f.name))
         ):
@@ -217,7 +211,7 @@ def resume(
     return runner.result(learner, interrupted())
 
 
-def _attach(viewer: Any | None, target: KinematicTarget, targets: NDArray[np.float64]) -> Any:
+def _attach(viewer: Any | None, target: setup.Target, targets: NDArray[np.float64]) -> Any:
     if viewer is None:
         return None
     viewer.start(target, targets)
@@ -247,7 +241,7 @@ class _Runner:
 
     def __init__(
         self,
-        target: KinematicTarget,
+        target: setup.Target,
         robot: str | None,
         seed: int | None,
         movements: int,
@@ -287,7 +281,7 @@ class _Runner:
             )
         state = learner.state_
         return BabbleResult(
-            target=self.target,
+            target=self.target,  # type: ignore[arg-type]
             targets=state.eval_targets,
             history=learner.history_,
             model=learner.model_,
@@ -298,4 +292,5 @@ class _Runner:
             steps=learner.steps_,
             wall_time=self.wall(),
             recording=learner.recording_,
+            state=state,
         )

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gb_pin.ik.api import DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_TOL, Seed, solve, solve_path
+from gb_pin.ik.solution import IKPath, IKSolution
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
+from gb_pin.learn.state import BabbleState
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs.results_file import read_result, write_result
 
@@ -31,6 +34,8 @@ class BabbleResult:
         steps: time steps run.
         wall_time: seconds spent babbling (compilation excluded after the first call).
         recording: the recorded steps, if ``record`` was given.
+        state: the run's final :class:`~gb_pin.learn.state.BabbleState` (map, noise, random
+            stream, posture), for ``babble(..., init=result)``; None for results read from files.
     """
 
     target: KinematicTarget
@@ -44,6 +49,7 @@ class BabbleResult:
     steps: int
     wall_time: float
     recording: RecordedSteps | None = None
+    state: BabbleState | None = field(default=None, repr=False)
 
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
@@ -72,6 +78,58 @@ class BabbleResult:
     def load(cls, path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
         """Read a result written by :meth:`save` (see :func:`load_result`)."""
         return cls(**read_result(path, target))
+
+    def solve(
+        self,
+        X: ArrayLike,
+        tol: float = DEFAULT_TOL,
+        max_iterations: int = DEFAULT_MAX_ITERATIONS,
+        seed: Seed = "learned",
+        damping: float = DEFAULT_DAMPING,
+    ) -> IKSolution:
+        """Exact postures for targets: g(x*) refined on the robot's kinematics (docs/IK.md).
+
+        Args:
+            X: (N, n) targets or one (n,) target [m].
+            tol: success when ||x* - f(q)|| <= tol [m].
+            max_iterations: the most damped least-squares steps per target.
+            seed: ``"learned"`` (g(x*)), ``"home"``, or postures (m,) / (N, m).
+            damping: lambda of the damped least squares [m].
+
+        Returns:
+            An :class:`~gb_pin.ik.solution.IKSolution` (see :func:`gb_pin.ik.solve`).
+        """
+        return solve(
+            self.target,
+            X,
+            model=self.model,
+            seed=seed,
+            tol=tol,
+            max_iterations=max_iterations,
+            damping=damping,
+        )
+
+    def solve_path(
+        self,
+        start: ArrayLike,
+        end: ArrayLike,
+        steps: int = 50,
+        tol: float = DEFAULT_TOL,
+        seed: Seed = "learned",
+    ) -> IKPath:
+        """A joint path along the line from ``start`` to ``end``, each point seeded by g(x*) and refined.
+
+        Args:
+            start: (n,) first point [m].
+            end: (n,) last point [m].
+            steps: points on the line, ends included.
+            tol: success when ||x* - f(q)|| <= tol [m].
+            seed: ``"learned"``, ``"home"``, or postures (m,) / (steps, m).
+
+        Returns:
+            An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
+        """
+        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol)
 
 
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:

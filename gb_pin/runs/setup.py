@@ -1,0 +1,149 @@
+"""What ``babble()`` and ``babble_session()`` share: the robot, the learner, the targets, the start state.
+
+A robot is a preset name, a :class:`~gb_pin.robot.target.KinematicTarget` or a
+:class:`~gb_pin.robot.function.FunctionTarget`. A run may continue a previous one
+(``init=``): its map, exploration noise, random generator, goal generator and posture carry
+over, the movement count and the history start afresh.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn import layout
+from gb_pin.learn.config import BY_NAME, NAMES
+from gb_pin.learn.goals import GoalArrays, GoalGenerator
+from gb_pin.learn.history import Recording
+from gb_pin.learn.learner import GoalBabbling
+from gb_pin.learn.llm import LocalLinearMap
+from gb_pin.learn.state import BabbleState
+from gb_pin.robot.bodies import ChangedBody
+from gb_pin.robot.function import FunctionTarget
+from gb_pin.robot.presets import get_preset, load_robot
+from gb_pin.robot.spec import is_robot_spec, load_robot_spec
+from gb_pin.robot.target import KinematicTarget
+
+Target = KinematicTarget | FunctionTarget | ChangedBody
+
+
+def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
+    """(target, preset name or None, the preset's learner defaults); ``MODULE:NAME`` loads a robot.
+
+    Raises:
+        UnknownRobotError: unknown preset name.
+        InvalidArgumentError: not a robot.
+    """
+    if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody):
+        return robot, None, {}
+    if isinstance(robot, str) and is_robot_spec(robot):
+        return resolve_robot(load_robot_spec(robot))[0], None, {}
+    if isinstance(robot, str):
+        preset, _ = get_preset(robot)
+        return load_robot(robot), robot, dict(preset.learner)
+    raise InvalidArgumentError(
+        f"robot must be a preset name, a KinematicTarget, a ChangedBody or a FunctionTarget, got {robot!r}"
+    )
+
+
+def make_learner(defaults: dict[str, Any], given: dict[str, Any]) -> GoalBabbling:
+    """The learner: values given, else the preset's, else the table's defaults (gb_pin.learn.config)."""
+    params: dict[str, Any] = {}
+    for name in NAMES:
+        value = given.get(name)
+        params[name] = value if value is not None else defaults.get(name, BY_NAME[name].default)
+    return GoalBabbling(**params)
+
+
+def target_set(target: Target, targets: ArrayLike | None) -> NDArray[np.float64]:
+    """The targets given (checked), else the robot's, else its ``"auto"`` grid."""
+    if targets is None:
+        return target.targets if target.targets is not None else target.auto_targets()
+    return target.check_targets(targets)
+
+
+def start_state(
+    target: Target,
+    learner: GoalBabbling,
+    X: NDArray[np.float64],
+    movements: int,
+    rng: np.random.Generator,
+    *,
+    eval_targets: ArrayLike | None,
+    schedule: ArrayLike | None,
+    record: Recording | None,
+    goals: str | GoalGenerator | None,
+    changes: dict[int, Any] | None,
+    init: Any | None,
+) -> BabbleState:
+    """The state at movement 0: fresh, or continuing ``init`` (a result with a final state)."""
+    config = learner._resolve(target.n_joints)
+    kinematics: Any = target  # a Kinematics, or a forward model without a compiled chain
+    st = BabbleState.start(
+        kinematics, X, movements, config, seed=rng, eval_targets=eval_targets, schedule=schedule,
+        record=record, goals=goals, changes=changes,
+    )  # fmt: skip
+    if init is not None:
+        continue_from(st, init)
+    return st
+
+
+def continue_from(st: BabbleState, init: Any) -> None:
+    """Carry the final state of a previous run (map, noise, random stream, goals, posture) into ``st``.
+
+    Raises:
+        InvalidArgumentError: ``init`` carries no final state, or one of other joint or task dimensions.
+    """
+    prev = getattr(init, "state", init)
+    if not isinstance(prev, BabbleState):
+        raise InvalidArgumentError(
+            f"init must be a BabbleResult of this session (results loaded from files of gb_pin 0.1 "
+            f"carry no final state) or a BabbleState, got {init!r}"
+        )
+    m, n = st.home.shape[0], st.targets.shape[1]
+    if (prev.home.shape[0], prev.targets.shape[1]) != (m, n):
+        raise InvalidArgumentError(
+            f"init has {prev.home.shape[0]} joints and {prev.targets.shape[1]} task axes; "
+            f"this run has {m} and {n}"
+        )
+    if prev.istate[layout.KIND] != layout.NONE:
+        raise InvalidArgumentError("init must be stopped between movements")
+    prev.llm.set_count(int(prev.istate[layout.PROTOTYPES]))
+    st.llm = LocalLinearMap.from_arrays(
+        prev.llm.to_arrays(),
+        st.config.radius,
+        st.config.learning_rate,
+        capacity=max(2 * prev.llm.n_prototypes_, 256),
+    )
+    st.A[:] = prev.A
+    st.b[:] = prev.b
+    st.rng = copy.deepcopy(prev.rng)
+    for key in st.VECTORS:
+        st.vectors[key][:] = prev.vectors[key]
+    st.istate[layout.PROTOTYPES] = prev.istate[layout.PROTOTYPES]
+    st.istate[layout.LAST_KIND] = prev.istate[layout.LAST_KIND]
+    old = prev.goal_state
+    if old.kind == st.goal_state.kind and np.array_equal(old.targets, st.targets):
+        st.goal_state = GoalArrays(old.kind, st.targets, old.istate.copy(), old.fstate.copy())
+
+
+def generator(seed: Any, init: Any | None = None) -> tuple[np.random.Generator, int | None]:
+    """(the generator, the int seed or None); with ``init``, the seed recorded is init's.
+
+    Raises:
+        InvalidArgumentError: a bad seed, or an ``init`` without a final state.
+    """
+    rng = check.generator(seed)
+    if init is not None:
+        if not isinstance(getattr(init, "state", init), BabbleState):
+            raise InvalidArgumentError(
+                f"init must be a BabbleResult of this session (results loaded from files of gb_pin 0.1 "
+                f"carry no final state) or a BabbleState, got {init!r}"
+            )
+        return rng, getattr(init, "seed", None)
+    return rng, None if isinstance(seed, np.random.Generator) else int(seed)
