@@ -72,7 +72,8 @@ def assert_chain_matches_pinocchio(
         q = random_posture(rng, kinds)
         x = target.chain.forward(q)
         assert x.shape == (target.n_task,)
-        np.testing.assert_allclose(x, target.forward(q), rtol=0, atol=ATOL)
+        np.testing.assert_allclose(x, target.forward_pinocchio(q), rtol=0, atol=ATOL)
+        np.testing.assert_array_equal(target.forward(q), x)  # forward is the learner's kinematics
 
 
 def planar_closed_form(q: np.ndarray, length: float = 1.0) -> np.ndarray:

@@ -37,13 +37,22 @@ def test_ask_tell_with_the_robots_kinematics_equals_babble_bit_for_bit(robot: st
     np.testing.assert_array_equal(ref.recording.position, got.recording.position)
 
 
-def test_ask_tell_with_pinocchio_forward_equals_babble_on_planar5() -> None:
-    """On planar5 Pinocchio's forward kinematics and the compiled chain agree bit for bit."""
-    target = gb_pin.load_robot("planar5")
+@pytest.mark.parametrize("robot", ["planar5", "talos_left_arm"])
+def test_ask_tell_driven_by_target_forward_equals_babble(robot: str) -> None:
+    """target.forward is the learner's kinematics: driven by it, a session is babble() bit for bit."""
+    target = gb_pin.load_robot(robot)
     _same(
-        gb_pin.babble("planar5", movements=120, seed=2),
-        _drive(gb_pin.babble_session("planar5", movements=120, seed=2), target.forward),
+        gb_pin.babble(robot, movements=120, seed=2),
+        _drive(gb_pin.babble_session(robot, movements=120, seed=2), target.forward),
     )
+
+
+def test_ask_tell_driven_by_pinocchio_agrees_to_rounding() -> None:
+    """Driven by Pinocchio's own forward kinematics (another rounding), the run agrees to ~1e-12."""
+    target = gb_pin.load_robot("talos_left_arm")
+    ref = gb_pin.babble("talos_left_arm", movements=60, seed=2)
+    got = _drive(gb_pin.babble_session("talos_left_arm", movements=60, seed=2), target.forward_pinocchio)
+    np.testing.assert_allclose(got.history.error, ref.history.error, rtol=0, atol=1e-9)
 
 
 def test_bad_tells_and_asks_are_refused_and_change_nothing() -> None:

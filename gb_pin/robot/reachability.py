@@ -62,7 +62,7 @@ class Reachability:
 
 
 @njit(cache=True, nogil=True)
-def _positions(Q, body, out):  # type: ignore[no-untyped-def]
+def positions(Q, body, out):  # type: ignore[no-untyped-def]
     """Frame positions of every posture row of Q (N, m) into out (N, n)."""
     for r in range(Q.shape[0]):
         body_forward(Q[r], body, out[r])
@@ -205,7 +205,7 @@ def sample_positions(
     lo, hi = sampling_bounds(robot)
     Q = lo + (hi - lo) * rng.random((samples, lo.shape[0]))
     X = np.empty((samples, robot.chain.n_task))
-    _positions(Q, robot.chain.kernel(), X)
+    positions(Q, robot.chain.kernel(), X)
     return Q, X
 
 
