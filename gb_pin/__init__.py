@@ -39,6 +39,7 @@ _EXPORTS: dict[str, str] = {
     "ResultFileError": "gb_pin.exceptions",
     "UnknownRobotError": "gb_pin.exceptions",
     "UnreachableTargetWarning": "gb_pin.exceptions",
+    "ExtrapolationWarning": "gb_pin.exceptions",
     "KinematicTarget": "gb_pin.robot.target",
     "RobotPreset": "gb_pin.robot.presets",
     "load_robot": "gb_pin.robot.presets",
@@ -72,6 +73,7 @@ __all__ = [
     "ChangedBody",
     "Condition",
     "DivergenceError",
+    "ExtrapolationWarning",
     "FunctionTarget",
     "GbPinError",
     "GbPinWarning",
@@ -116,6 +118,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
     from gb_pin.exceptions import (
         DivergenceError,
+        ExtrapolationWarning,
         GbPinError,
         GbPinWarning,
         InvalidArgumentError,

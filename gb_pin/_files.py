@@ -16,6 +16,98 @@ import tempfile
 from collections.abc import Iterator
 from typing import IO, Any
 
+from gb_pin.exceptions import InvalidArgumentError
+
+_SYSTEM_DIRS = ("/proc", "/sys", "/dev")
+
+
+def check_writable(path: Any, what: str = "output file") -> str:
+    """Check, before any work, that ``path`` can be written as a file; return it as a string.
+
+    The parent directory must exist and be a writable directory, ``path`` must not be a
+    directory, nor lie under ``/proc``, ``/sys`` or ``/dev``.
+
+    Args:
+        path: the file to be written (str or path-like).
+        what: what the file is, for the message (``"--out"``, ``"checkpoint"``, ...).
+
+    Raises:
+        InvalidArgumentError: naming ``what``, the path and the reason.
+    """
+    if isinstance(path, bool) or not isinstance(path, str | os.PathLike):
+        raise InvalidArgumentError(f"{what} must be a file path (str or os.PathLike), got {path!r}")
+    text = os.fspath(path)
+    if not isinstance(text, str) or not text or "\0" in text:
+        raise InvalidArgumentError(f"{what} must be a non-empty file path, got {path!r}")
+    full = os.path.realpath(os.path.abspath(text))
+    parent = os.path.dirname(full)
+    reason = None
+    if any(full == d or full.startswith(d + os.sep) for d in _SYSTEM_DIRS):
+        reason = "is under a system directory (/proc, /sys, /dev)"
+    elif os.path.isdir(full):
+        reason = "is a directory"
+    elif not os.path.isdir(parent):
+        reason = f"is in {parent!r}, which is not an existing directory"
+    elif not os.access(parent, os.W_OK | os.X_OK):
+        reason = f"is in {parent!r}, which is not writable"
+    if reason is not None:
+        raise InvalidArgumentError(f"{what} {text!r} cannot be written: it {reason}")
+    return text
+
+
+def check_directory(path: Any, what: str = "output folder") -> str:
+    """Check, before any work, that ``path`` is a writable directory or can be created; return it.
+
+    Raises:
+        InvalidArgumentError: naming ``what``, the path and the reason.
+    """
+    if os.path.isdir(path) if isinstance(path, str | os.PathLike) else False:
+        text = os.fspath(path)
+        if not os.access(text, os.W_OK | os.X_OK):
+            raise InvalidArgumentError(f"{what} {text!r} is a directory that is not writable")
+        return str(text)
+    return check_writable(path, what)  # not there yet: its parent must be a writable directory
+
+
+def fallback_path(path: str | os.PathLike[str]) -> str:
+    """Where to put a finished result whose own path failed: the current directory, else the temp dir.
+
+    The name is ``path``'s, made unique (``name.1.npz``, ...), so no file is overwritten.
+    """
+    base = os.path.basename(os.fspath(path)) or "gb_pin_result"
+    stem, ext = os.path.splitext(base)
+    for directory in (os.getcwd(), tempfile.gettempdir()):
+        if not os.access(directory, os.W_OK | os.X_OK):
+            continue
+        for i in range(1000):
+            candidate = os.path.join(directory, base if i == 0 else f"{stem}.{i}{ext}")
+            if not os.path.exists(candidate):
+                return candidate
+    return os.path.join(tempfile.mkdtemp(prefix="gb_pin_"), base)
+
+
+def write_or_fallback(path: str | os.PathLike[str], write: Any) -> str:
+    """Call ``write(path)``; if it fails with OSError, ``write`` to :func:`fallback_path` instead.
+
+    For results computed at length: a failed final write must not lose them.
+
+    Returns:
+        The path written (``path`` or the fallback).
+
+    Raises:
+        OSError: the fallback failed too (the message names both paths).
+    """
+    try:
+        write(path)
+        return os.fspath(path)
+    except OSError as first:
+        other = fallback_path(path)
+        try:
+            write(other)
+        except OSError as second:
+            raise OSError(f"cannot write {os.fspath(path)!r} ({first}) nor {other!r} ({second})") from second
+        return other
+
 
 @contextlib.contextmanager
 def atomic_write(path: str | os.PathLike[str], *, text: bool = False) -> Iterator[IO[Any]]:

@@ -37,11 +37,26 @@ def probability(name: str, value: Any) -> float:
     return float(value)
 
 
-def positive_int(name: str, value: Any, minimum: int = 1) -> int:
-    """Return ``value`` as an int if it is an integer >= ``minimum``, else raise."""
+def positive_int(name: str, value: Any, minimum: int = 1, maximum: int | None = None) -> int:
+    """Return ``value`` as an int if it is an integer in [``minimum``, ``maximum``], else raise.
+
+    numpy integers are accepted (and returned as Python ints); bools, floats and strings are not.
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise InvalidArgumentError(f"{name} must be an integer >= {minimum}, got {value!r}")
+        bound = f"an integer >= {minimum}" if maximum is None else f"an integer in [{minimum}, {maximum}]"
+        raise InvalidArgumentError(f"{name} must be {bound}, got {value!r}")
+    if maximum is not None and int(value) > maximum:
+        raise InvalidArgumentError(f"{name} must be an integer in [{minimum}, {maximum}], got {value!r}")
     return int(value)
+
+
+MAX_MOVEMENTS = 10**12
+"""The largest number of movements a run accepts (about 10^5 years of compute at 3 us a step)."""
+
+
+def movements(name: str, value: Any, minimum: int = 0) -> int:
+    """Return a number of movements as an int in [``minimum``, :data:`MAX_MOVEMENTS`], else raise."""
+    return positive_int(name, value, minimum, MAX_MOVEMENTS)
 
 
 def points(

@@ -50,5 +50,9 @@ class UnreachableTargetWarning(GbPinWarning):
     """Targets that no posture within the joint limits can reach (detected cheaply: beyond the reach)."""
 
 
+class ExtrapolationWarning(GbPinWarning):
+    """Queries of the learned map far outside the learned region: its linear extrapolation may be far off."""
+
+
 class ViewerWarning(GbPinWarning):
     """A viewer could not start; the run goes on without it."""

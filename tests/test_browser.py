@@ -239,7 +239,15 @@ def test_live_view_draws_the_chain_in_chromium(tmp_path: Path) -> None:
             if pixels >= 0.5 * expected or time.monotonic() > deadline:
                 break
             time.sleep(0.5)
+        # The legend, put into meshcat's own page by an evaluated set_control (gb_pin.viewer.legend).
+        legend = page.call(
+            "Runtime.evaluate", expression="(document.getElementById('gb-pin-legend') || {}).innerText || ''"
+        )["result"]["value"]
+        controls = "Array.from(document.querySelectorAll('.dg .property-name')).map(e => e.innerText).join()"
+        buttons = page.call("Runtime.evaluate", expression=controls)
     finally:
         viewer.close()
         page.close()
     assert 0.5 * expected <= pixels <= 2.0 * expected, (pixels, expected)
+    assert "planar5" in legend and "movement r = 30" in legend and "target set X" in legend, legend
+    assert "gb_pin_legend" not in buttons["result"]["value"]  # the control carrying it was removed again

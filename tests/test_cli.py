@@ -141,17 +141,18 @@ def test_cli_imports_go_one_way() -> None:
     """__init__ -> parser -> commands -> options; nothing outside gb_pin/cli imports gb_pin.cli."""
     package = Path(gb_pin.__file__).parent
     cli = package / "cli"
-    commands = {"babble", "bench", "ik", "reproduce", "robots", "trials", "viewing"}
-    allowed = {"__init__": {"parser"}, "parser": {*commands, "options"}, "options": set()}
+    commands = {"babble", "bench", "ik", "plot", "reproduce", "robots", "trials", "viewing"}
+    helpers = {"options", "checks"}  # option helpers, and the checks of arguments made before any work
+    allowed = {"__init__": {"parser"}, "parser": {*commands, "options"}, "options": set(), "checks": set()}
     for path in sorted(cli.glob("*.py")):
         if path.stem == "__main__":
             continue  # `python -m gb_pin.cli`: from gb_pin.cli import main
         imported = _imports(path)
         assert "gb_pin.cli" not in imported, f"{path.name} imports through gb_pin/cli/__init__.py"
         inner = {m.removeprefix("gb_pin.cli.").split(".")[0] for m in imported if m.startswith("gb_pin.cli.")}
-        assert inner <= allowed.get(path.stem, {"options"}), (path.name, inner)
+        assert inner <= allowed.get(path.stem, helpers), (path.name, inner)
     for path in package.rglob("*.py"):
-        if cli not in path.parents:
+        if cli not in path.parents and path != package / "__main__.py":  # `python -m gb_pin` runs the CLI
             assert not any(m.startswith("gb_pin.cli") for m in _imports(path)), path
 
 
@@ -191,3 +192,74 @@ def test_ik_solves_coordinates_and_csv_targets_and_rejects_bad_input(tmp_path, c
         assert proc.returncode == 2, (argv, proc.stderr)
         assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("gb-pin: error: ")
         assert needle in proc.stderr
+
+
+def test_version_and_python_m_gb_pin() -> None:
+    """`gb-pin --version` prints the version; `python -m gb_pin` is the same command line."""
+    for args in (["-m", "gb_pin", "--version"], ["-m", "gb_pin.cli", "--version"]):
+        out = subprocess.run([sys.executable, *args], capture_output=True, text=True, check=True).stdout
+        assert out.strip() == f"gb-pin {gb_pin.__version__}"
+
+
+def test_resume_reports_this_sessions_steps(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """After --resume, the time per step is this session's time over the steps this session ran."""
+    path = tmp_path / "run.ckpt"
+
+    class _StopError(Exception):
+        pass
+
+    def stop(r: int) -> None:
+        if r >= 20:
+            raise _StopError
+
+    with pytest.raises(_StopError):
+        gb_pin.babble("planar5", movements=40, seed=1, checkpoint=path, checkpoint_every=10, callback=stop)
+    from gb_pin.runs.checkpoint import read_checkpoint
+
+    state, _ = read_checkpoint(path)
+    assert main(["babble", "--resume", str(path), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    full = gb_pin.babble("planar5", movements=40, seed=1)
+    assert f"for this session's {full.steps - state.steps} steps" in text
+
+
+def test_bad_result_files_get_gb_pins_messages(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """Text, .npy, pickled, object-array files named .npz: one gb_pin line, no numpy allow_pickle advice."""
+    import pickle
+
+    files = {"text.npz": b"hello\n", "pickled.npz": pickle.dumps({"a": 1})}
+    for name, data in files.items():
+        (tmp_path / name).write_bytes(data)
+    np.save(tmp_path / "array.npy", np.arange(3))
+    (tmp_path / "array.npz").write_bytes((tmp_path / "array.npy").read_bytes())
+    np.savez(tmp_path / "objects.npz", a=np.array([object()], dtype=object))
+    for name in ("text.npz", "pickled.npz", "array.npz", "objects.npz"):
+        assert main(["show", str(tmp_path / name), "--html", str(tmp_path / "x.html")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("gb-pin: error: ") and name in err
+        assert "allow_pickle" not in err, err
+
+
+def test_babble_any_urdf_or_example_robot_data_model(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`--robot FILE.urdf --frame F [--joints] [--home]`, `--robot erd:NAME ...`; show/plot rebuild it."""
+    urdf = str(Path(__file__).parent / "data" / "small_arm.urdf")
+    out = tmp_path / "arm.npz"
+    args = ["babble", "--robot", urdf, "--frame", "tool", "--joints", "j1,j2,j4", "--home", "0.1,0.2,0.3"]
+    assert main([*args, "--movements", "30", "--quiet", "--out", str(out)]) == 0
+    assert "3 joints" in capsys.readouterr().out
+    model = ["--robot", urdf, "--frame", "tool", "--joints", "j1,j2,j4", "--home", "0.1,0.2,0.3"]
+    assert main(["show", str(out), "--html", str(tmp_path / "arm.html"), *model]) == 0
+    assert main(["plot", str(out), *model]) == 0
+    assert (tmp_path / "arm.html").is_file() and (tmp_path / "arm.png").is_file()
+    capsys.readouterr()
+    joints = "LShoulderPitch,LShoulderYaw,LElbowRoll,LElbowYaw"
+    erd = ["babble", "--robot", "erd:romeo", "--frame", "LHand", "--joints", joints, "--movements", "10"]
+    assert main([*erd, "--quiet"]) == 0
+    assert "4 joints" in capsys.readouterr().out
+    for bad, needle in (
+        (["babble", "--robot", "erd:romeo", "--movements", "5"], "needs --frame"),
+        (["babble", "--robot", "planar5", "--frame", "tool", "--movements", "5"], "--frame"),
+        (["babble", "--robot", urdf, "--frame", "no_such_frame", "--movements", "5"], "no_such_frame"),
+    ):
+        assert main(bad) == 2
+        assert needle in capsys.readouterr().err

@@ -246,7 +246,7 @@ def test_predict_far_away_is_finite_and_equals_soft_max() -> None:
             a = np.exp(-(sq - sq.min()))
             beta = a / a.sum()
             expected = beta @ (np.einsum("kij,kj->ki", llm.matrices_, U) + llm.offsets_)
-            g = llm.predict(x)
+            g = llm.predict(x, warn=False)  # far on purpose
             assert np.all(np.isfinite(g))
             # Terms W_k u_k are ~ |W| * 1e3: rounding is a few eps of that magnitude.
             scale = np.abs(llm.matrices_).max() * np.abs(U).max() + np.abs(llm.offsets_).max()
@@ -385,3 +385,20 @@ def test_partial_fit_rechecks_learning_rate() -> None:
     llm.learning_rate = -1.0
     with pytest.raises(InvalidArgumentError, match="learning_rate"):
         llm.partial_fit([[0.0, 0.0]], [[1.0]])
+
+
+def test_predict_warns_far_outside_the_learned_region() -> None:
+    """Queries many radii from every prototype warn (ExtrapolationWarning); queries near them do not."""
+    import warnings
+
+    import gb_pin
+    from gb_pin.exceptions import ExtrapolationWarning, GbPinWarning
+
+    result = gb_pin.babble("planar5", movements=50, seed=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result.inverse(result.model.prototypes_)  # no warning
+        result.model.predict([[3.0, 3.0]], warn=False)
+    with pytest.warns(ExtrapolationWarning, match=r"\[3.0, 3.0\]"):
+        result.inverse([[3.0, 3.0]])
+    assert issubclass(ExtrapolationWarning, GbPinWarning)

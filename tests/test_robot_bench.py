@@ -84,8 +84,8 @@ def test_bad_benchmark_requests() -> None:
     """Unknown presets fail before any trial; fewer than 1000 movements and empty tables are errors."""
     with pytest.raises(UnknownRobotError):
         run(["planar3", "no_such_robot"], trials=1, movements=1000, progress=False)
-    with pytest.raises(InvalidArgumentError, match="1000"):
-        benchmark_robot("planar3", trials=1, movements=500)
+    with pytest.raises(InvalidArgumentError, match="0"):
+        benchmark_robot("planar3", trials=1, movements=0)
     with pytest.raises(InvalidArgumentError):
         format_markdown([])
 
@@ -117,3 +117,17 @@ def test_writes_are_atomic(tmp_path: Path) -> None:
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ROBOTS.md"]
     plot_curves([ts], tmp_path / "curves.png")
     assert (tmp_path / "curves.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_short_benchmark_has_one_column_pair(capsys) -> None:  # type: ignore[no-untyped-def]
+    """`gb-pin robots --benchmark --movements 500` runs; its table has one E^X pair, not a repeated one."""
+    from gb_pin.cli import main
+
+    args = ["robots", "--benchmark", "--robots", "planar3", "--trials", "2", "--movements", "500", "--quiet"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    header = next(line for line in text.splitlines() if line.startswith("| preset"))
+    assert header.count("E^X 500 median") == 1 and "1000" not in header
+    row = next(line for line in text.splitlines() if line.startswith("| planar3"))
+    assert row.count("|") == header.count("|")
+    assert "--movements 500" in text

@@ -1,11 +1,12 @@
-"""Command line: ``gb-pin babble | bench | trials | reproduce | replay | show | robots``.
+"""Command line: ``gb-pin babble | bench | trials | reproduce | replay | show | plot | robots``.
 
 - :mod:`~gb_pin.cli.parser`: :func:`build_parser`, assembled from the commands' ``add_<command>``;
 - :mod:`~gb_pin.cli.options`: option helpers, the learner's options from the hyperparameter table;
 - :mod:`~gb_pin.cli.babble`: one run, resumed, recorded, checkpointed or watched live;
 - :mod:`~gb_pin.cli.trials`, :mod:`~gb_pin.cli.bench`, :mod:`~gb_pin.cli.robots`,
   :mod:`~gb_pin.cli.reproduce`: trials, step timings, the presets, the paper's figures;
-- :mod:`~gb_pin.cli.viewing`: ``replay`` and ``show``, a saved result in the browser.
+- :mod:`~gb_pin.cli.viewing`: ``replay`` and ``show``, a saved result in the browser;
+- :mod:`~gb_pin.cli.plot`: ``plot``, the learning curves of a result or of trials.
 
 Imports go one way: this module imports the parser, the parser the commands, the commands the
 option helpers. Nothing is imported from here by the other modules, nor outside the command line.

@@ -11,7 +11,7 @@ import sys
 import time
 from typing import TYPE_CHECKING, Any
 
-from gb_pin.cli.options import add_learner_options, add_quiet, learner_values
+from gb_pin.cli.options import add_learner_options, add_model_options, add_quiet, learner_values, model_robot
 from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -30,14 +30,17 @@ def _add_options(b: argparse.ArgumentParser) -> None:
     """``babble``'s options: the run, the learner, output, checkpoints, recording, viewer."""
     b.add_argument(
         "--robot",
-        default="planar20",
-        help="preset name, e.g. planar5, planar20 (default planar20), or MODULE:NAME (a module or a .py "
-        "file, and a robot in it or a function of no arguments returning one, e.g. a gb_pin.FunctionTarget)",
+        default=None,
+        help="preset name, e.g. planar5, planar20 (default planar20); a URDF file (my_arm.urdf) or "
+        "erd:NAME (an example-robot-data model, e.g. erd:romeo) with --frame; or MODULE:NAME (a module or "
+        "a .py file, and a robot in it or a function of no arguments returning one, e.g. a "
+        "gb_pin.FunctionTarget)",
     )
+    add_model_options(b)
     b.add_argument(
-        "--movements", type=int, default=1000, help="movements, home returns included (default 1000)"
+        "--movements", type=int, default=None, help="movements, home returns included (default 1000)"
     )
-    b.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    b.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
     add_learner_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     _add_checkpoint_options(b)
@@ -84,17 +87,20 @@ def _add_view_options(b: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Babble (or resume), print the summary and save the result if asked."""
+    import gb_pin.cli.checks as checks
     from gb_pin.robot.presets import get_preset
     from gb_pin.runs.api import warmup
 
-    done = _read_resume(args)
-    robot: Any = args.robot
-    if ":" in args.robot:  # MODULE:NAME, loaded here so that a bad one is reported before compiling
+    checks.babble(args)  # combinations, ranges and output paths, before any work
+    done, steps_before, wall_before = _read_resume(args)
+    robot: Any = model_robot(args)  # a URDF or example-robot-data model, or None
+    if robot is None and ":" in args.robot:  # MODULE:NAME, loaded here: a bad one fails before compiling
         from gb_pin.robot.spec import load_robot_spec
 
         robot = load_robot_spec(args.robot)
-    else:
+    elif robot is None:
         get_preset(args.robot)  # an unknown robot is reported before the kernels compile
+        robot = args.robot
     record = _recording(args)
     compile_time = warmup()
     viewer = _start_viewer(args)
@@ -107,17 +113,21 @@ def run(args: argparse.Namespace) -> int:
         if viewer is not None:
             viewer.finish()  # the last state and the learned model; browsers keep showing them
             viewer.close()
-    _print_summary(args, result, time.perf_counter() - start, compile_time)
-    if args.out:
-        result.save(args.out)
-        print(f"saved            {args.out}")
+    _print_summary(args, result, time.perf_counter() - start, compile_time, (steps_before, wall_before))
+    if args.out is not None:
+        from gb_pin._files import write_or_fallback
+
+        where = write_or_fallback(args.out, result.save)  # a failed write never loses the result
+        if where != args.out:
+            print(f"gb-pin: warning: could not write {args.out}; saved to {where} instead", file=sys.stderr)
+        print(f"saved            {where}")
     return 0
 
 
-def _read_resume(args: argparse.Namespace) -> int:
-    """--resume: set ``args.robot``, ``movements`` and ``seed`` from the checkpoint; movements done."""
+def _read_resume(args: argparse.Namespace) -> tuple[int, int, float]:
+    """--resume: robot, movements and seed from the checkpoint; the movements, steps, seconds done."""
     if not args.resume:
-        return 0
+        return 0, 0, 0.0
     from gb_pin.runs.checkpoint import read_checkpoint
 
     state, info = read_checkpoint(args.resume)
@@ -126,7 +136,7 @@ def _read_resume(args: argparse.Namespace) -> int:
             f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume)"
         )
     args.robot, args.movements, args.seed = info.robot, info.movements, info.seed
-    return int(state.movements)
+    return int(state.movements), int(state.steps), float(info.wall_time)
 
 
 def _run(
@@ -184,8 +194,18 @@ class _Progress:
             self._bar.close()
 
 
-def _print_summary(args: argparse.Namespace, result: BabbleResult, wall: float, compile_time: float) -> None:
-    """The summary of README.md: E^X, D^home, prototypes, wall time."""
+def _print_summary(
+    args: argparse.Namespace,
+    result: BabbleResult,
+    wall: float,
+    compile_time: float,
+    before: tuple[int, float] = (0, 0.0),
+) -> None:
+    """The summary of README.md: E^X, D^home, prototypes, wall time.
+
+    The time per step is this session's: its babbling time over the steps it ran (after ``--resume``,
+    ``before`` holds the steps and seconds of the checkpoint's sessions, which are not counted).
+    """
     e0 = result.history.error[0]
     axes = getattr(result.target, "axes", None) or f"{result.target.n_task} dimensions"
     print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {axes})")
@@ -193,8 +213,12 @@ def _print_summary(args: argparse.Namespace, result: BabbleResult, wall: float, 
     print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
+    steps_before, wall_before = before
+    steps = result.steps - steps_before
+    per_step = f"{1e6 * (result.wall_time - wall_before) / steps:.2f} us/step" if steps > 0 else "no steps"
+    session = f" for this session's {steps} steps" if steps_before else ""
     print(
-        f"wall time        {wall:.2f} s ({1e6 * result.wall_time / result.steps:.2f} us/step, "
+        f"wall time        {wall:.2f} s ({per_step}{session}, "
         f"evaluation included; plus {compile_time:.2f} s to compile or load the kernels)"
     )
 

@@ -41,9 +41,12 @@ def run(args: argparse.Namespace) -> int:
     """Time the runs and print the table (or, with --ik, run the IK benchmark)."""
     if args.ik:
         return _ik(args)
+    from gb_pin import _validation as check
     from gb_pin.experiments.bench import format_table, run_benchmark
 
     movements = 2000 if args.movements is None else args.movements
+    check.positive_int("--repeat", args.repeat)
+    check.movements("--movements", movements, minimum=1)
     rows = run_benchmark(comma_list(args.robots or ROBOTS_DEFAULT), movements=movements, repeat=args.repeat)
     print(format_table(rows))
     return 0
@@ -53,10 +56,14 @@ def _ik(args: argparse.Namespace) -> int:
     """--ik: learned vs home vs random seeds on every preset; the tables, and optionally the doc."""
     import sys
 
+    import gb_pin.cli.checks as checks
+    from gb_pin import _validation as check
     from gb_pin.experiments.ik_bench import ROBOTS
     from gb_pin.experiments.ik_bench import run as run_ik
 
     robots = ROBOTS if args.robots is None else tuple(comma_list(args.robots))
     movements = 3000 if args.movements is None else args.movements
+    check.movements("--movements", movements, minimum=1)
+    checks.outputs(args, doc="--doc")
     print(run_ik(robots, movements, doc=args.doc, progress=lambda line: print(line, file=sys.stderr)))
     return 0

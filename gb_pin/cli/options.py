@@ -15,6 +15,8 @@ import argparse
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from gb_pin.exceptions import InvalidArgumentError
+
 if TYPE_CHECKING:
     from gb_pin.learn.config import Hyperparameter
 
@@ -90,3 +92,60 @@ def add_port(parser: argparse.ArgumentParser) -> None:
 def add_html(parser: argparse.ArgumentParser) -> None:
     """``--html``: write one offline file instead of serving."""
     parser.add_argument("--html", default=None, help="write one self-contained HTML file instead of serving")
+
+
+def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
+    """--frame, --joints, --home, --axes (and --robot if ``robot``): a URDF or example-robot-data model.
+
+    ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``: the model a result of such a robot
+    was learned on, which its file does not record).
+    """
+    if robot:
+        b.add_argument(
+            "--robot", default=None, help="a result of a URDF or erd:NAME model: that model (with --frame)"
+        )
+    b.add_argument("--frame", default=None, help="with --robot FILE.urdf or erd:NAME: the effector frame")
+    b.add_argument(
+        "--joints",
+        default=None,
+        help="comma-separated joints the learner moves (default: all; others locked)",
+    )
+    b.add_argument(
+        "--home", default=None, help="home posture: comma-separated values over --joints, or a named posture"
+    )
+    b.add_argument("--axes", default=None, help="task axes, e.g. xyz or xy (default: the model's)")
+
+
+def model_robot(args: argparse.Namespace) -> Any:
+    """--robot FILE.urdf or erd:NAME (with --frame, --joints, --home, --axes) as a KinematicTarget, else None.
+
+    Raises:
+        InvalidArgumentError: --frame missing, or model options given with a preset or MODULE:NAME.
+    """
+    if args.robot is None and args.frame is None:
+        return None
+    spec = str(args.robot)
+    options = {"--frame": args.frame, "--joints": args.joints, "--home": args.home, "--axes": args.axes}
+    given = [name for name, value in options.items() if value is not None]
+    if not (spec.lower().endswith(".urdf") or spec.startswith("erd:")):
+        if given:
+            raise InvalidArgumentError(
+                f"{', '.join(given)}: only with --robot FILE.urdf or erd:NAME, not with --robot {spec!r}"
+            )
+        return None
+    if not args.frame:
+        raise InvalidArgumentError(f"--robot {spec!r} needs --frame, the effector frame (e.g. --frame tool)")
+    from gb_pin.robot.target import KinematicTarget
+
+    joints = comma_list(args.joints) if args.joints else None
+    home: Any = None
+    if args.home:
+        try:
+            home = [float(v) for v in comma_list(args.home)]
+        except ValueError:
+            home = args.home.strip()  # a named posture (SRDF / example-robot-data)
+    if spec.startswith("erd:"):
+        return KinematicTarget.from_example_robot_data(
+            spec[4:], args.frame, joints, home=home, axes=args.axes
+        )
+    return KinematicTarget.from_urdf(spec, args.frame, joints, home=home, axes=args.axes)

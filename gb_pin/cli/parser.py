@@ -14,6 +14,7 @@ from gb_pin.cli.babble import add_babble
 from gb_pin.cli.bench import add_bench
 from gb_pin.cli.ik import add_ik
 from gb_pin.cli.options import CommandParser
+from gb_pin.cli.plot import add_plot
 from gb_pin.cli.reproduce import add_reproduce
 from gb_pin.cli.robots import add_robots
 from gb_pin.cli.trials import add_trials
@@ -25,7 +26,10 @@ DESCRIPTION = "Online Goal Babbling (Rolf, Steil & Gienger 2011) on Pinocchio ro
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``gb-pin`` argument parser; each sub-command sets ``func``, the function running it."""
+    from gb_pin import __version__
+
     parser = argparse.ArgumentParser(prog=PROG, description=DESCRIPTION)
+    parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
     # The order of ``gb-pin --help``.
     add_babble(sub)
@@ -34,5 +38,6 @@ def build_parser() -> argparse.ArgumentParser:
     add_ik(sub)
     add_reproduce(sub)
     add_replay_and_show(sub)
+    add_plot(sub)
     add_robots(sub)
     return parser

@@ -43,8 +43,10 @@ def _add_options(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Reproduce the figures asked for and say where they went."""
+    import gb_pin.cli.checks as checks
     from gb_pin.reproduce import reproduce
 
+    checks.directory(args.out, "--out")
     result = reproduce(
         args.figures,
         out=args.out,

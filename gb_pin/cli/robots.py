@@ -11,6 +11,7 @@ if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
 
 DEFAULT_TRIALS = 10
+DEFAULT_MOVEMENTS = 10000
 
 
 def add_robots(sub: Subparsers) -> None:
@@ -29,7 +30,12 @@ def _add_options(r: argparse.ArgumentParser) -> None:
     r.add_argument(
         "--trials", type=int, default=DEFAULT_TRIALS, help=f"trials per preset (default {DEFAULT_TRIALS})"
     )
-    r.add_argument("--movements", type=int, default=10000, help="movements per trial (default 10000)")
+    r.add_argument(
+        "--movements",
+        type=int,
+        default=DEFAULT_MOVEMENTS,
+        help=f"movements per trial (default {DEFAULT_MOVEMENTS}; the table's columns: 1000 and this)",
+    )
     add_trial_seed(r)
     add_workers(r)
     r.add_argument("--doc", default=None, help="update the table in this markdown file (docs/ROBOTS.md)")
@@ -51,12 +57,17 @@ def run(args: argparse.Namespace) -> int:
 
 def _benchmark(args: argparse.Namespace) -> int:
     """--benchmark: trials on every preset; the table, and optionally the doc, figure and JSON."""
+    import gb_pin.cli.checks as checks
     from gb_pin.experiments.robot_bench import run as run_benchmark
+
+    checks.outputs(args, json="--json", figure="--figure", doc="--doc")
 
     # The command recorded with the table: how to regenerate it.
     command = "gb-pin robots --benchmark"
     if args.trials != DEFAULT_TRIALS:
         command += f" --trials {args.trials}"
+    if args.movements != DEFAULT_MOVEMENTS:
+        command += f" --movements {args.movements}"
     run_benchmark(
         comma_list(args.robots) if args.robots else None,
         trials=args.trials,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from typing import TYPE_CHECKING
 
@@ -45,8 +46,13 @@ def _add_options(t: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the trials, print their summary and write --json if asked."""
+    import gb_pin.cli.checks as checks
+    from gb_pin import _validation as check
     from gb_pin.experiments.trials import run_trials
 
+    check.positive_int("--trials", args.trials)
+    check.movements("--movements", args.movements, minimum=1)
+    checks.outputs(args, json="--json", checkpoint="--checkpoint")
     start = time.perf_counter()
     result = run_trials(
         robot=args.robot,
@@ -60,9 +66,13 @@ def run(args: argparse.Namespace) -> int:
         **learner_values(args, given_only=True),
     )
     _print_summary(args, result, time.perf_counter() - start)
-    if args.json:
-        result.save(args.json)
-        print(f"saved            {args.json}")
+    if args.json is not None:
+        from gb_pin._files import write_or_fallback
+
+        where = write_or_fallback(args.json, result.save)  # a failed write never loses the trials
+        if where != args.json:
+            print(f"gb-pin: warning: could not write {args.json}; saved to {where} instead", file=sys.stderr)
+        print(f"saved            {where}")
     return 0
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_html, add_port
+from gb_pin.cli.options import add_html, add_model_options, add_port, model_robot
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -33,6 +33,7 @@ def _add_replay_options(v: argparse.ArgumentParser) -> None:
     v.add_argument("--movements", default=None, help="replay movements FIRST:LAST only, e.g. 0:50")
     v.add_argument("--speed", type=float, default=2.0, help="movements per second (default 2)")
     add_port(v)
+    add_model_options(v, robot=True)
     v.set_defaults(func=replay)
 
 
@@ -42,15 +43,19 @@ def _add_show_options(w: argparse.ArgumentParser) -> None:
     add_html(w)
     w.add_argument("--postures", type=int, default=5, help="postures g(x*) drawn (default 5)")
     add_port(w)
+    add_model_options(w, robot=True)
     w.set_defaults(func=show)
 
 
 def replay(args: argparse.Namespace) -> int:
     """Replay the recorded steps of a result: export --html, or serve until Ctrl-C."""
+    import gb_pin.cli.checks as checks
     from gb_pin import load_result
     from gb_pin.viewer import export_replay, live_replay, parse_range
 
-    result = load_result(args.file)
+    checks.finite("--speed", args.speed, strict=True)
+    checks.outputs(args, html="--html")
+    result = load_result(args.file, target=model_robot(args))  # --robot: a URDF / erd: model's result
     movements = parse_range(args.movements) if args.movements else None
     if args.html:
         export_replay(result, args.html, movements, args.speed)
@@ -62,10 +67,14 @@ def replay(args: argparse.Namespace) -> int:
 
 def show(args: argparse.Namespace) -> int:
     """Draw a result's learned model: export --html, or serve until Ctrl-C."""
+    import gb_pin.cli.checks as checks
+    from gb_pin import _validation as check
     from gb_pin import load_result
     from gb_pin.viewer import export_model, live_model
 
-    result = load_result(args.file)
+    check.positive_int("--postures", args.postures, minimum=0)
+    checks.outputs(args, html="--html")
+    result = load_result(args.file, target=model_robot(args))  # --robot: a URDF / erd: model's result
     if args.html:
         export_model(result, args.html, few=args.postures)
         _wrote(args.html)

@@ -7,11 +7,28 @@ canonicalises values.
 from __future__ import annotations
 
 import json
+import os
 from typing import Any
 
 import numpy as np
 
 from gb_pin.exceptions import ResultFileError
+
+MAX_JSON_BYTES = 256 * 2**20
+"""The largest trial set, sweep or trial journal read (checked before reading)."""
+
+
+def check_size(path: str) -> None:
+    """Raise ResultFileError if ``path`` is larger than :data:`MAX_JSON_BYTES` (missing files pass)."""
+    try:
+        size = os.stat(path).st_size
+    except OSError:
+        return
+    if size > MAX_JSON_BYTES:
+        raise ResultFileError(
+            f"{path}: {size} bytes; gb_pin reads JSON files of at most {MAX_JSON_BYTES} "
+            "(gb_pin.experiments._json.MAX_JSON_BYTES)"
+        )
 
 
 def read_json(path: str) -> Any:
@@ -20,11 +37,14 @@ def read_json(path: str) -> Any:
     Raises:
         ResultFileError: the file is missing, unreadable or not JSON (the message names it).
     """
+    check_size(path)
     try:
         with open(path, encoding="utf-8") as fh:
             return json.load(fh)
     except FileNotFoundError as exc:
         raise ResultFileError(f"{path}: no such file") from exc
+    except RecursionError as exc:
+        raise ResultFileError(f"{path}: JSON nested too deeply") from exc
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise ResultFileError(f"{path}: not a readable JSON file ({exc})") from exc
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gb_pin import _validation as check
 from gb_pin.runs.api import babble, warmup
 
 
@@ -39,7 +40,13 @@ class BenchRow:
 
 
 def run_benchmark(robots: list[str], movements: int = 2000, repeat: int = 3, seed: int = 0) -> list[BenchRow]:
-    """Time ``babble`` for each robot (after one warm-up run that compiles the kernels)."""
+    """Time ``babble`` for each robot (after one warm-up run that compiles the kernels).
+
+    Raises:
+        InvalidArgumentError: ``repeat`` < 1 or a bad number of movements.
+    """
+    repeat = check.positive_int("repeat", repeat)
+    movements = check.movements("movements", movements, minimum=1)
     warmup()  # JIT compilation, not timed
     rows = []
     for robot in robots:

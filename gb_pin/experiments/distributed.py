@@ -21,6 +21,8 @@ Dask is imported only here, and only when a scheduler is given: local runs need 
 
 from __future__ import annotations
 
+import re
+import socket
 import uuid
 from collections.abc import Callable, Sequence
 from contextlib import contextmanager
@@ -29,6 +31,35 @@ from typing import Any
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 CONNECT_TIMEOUT = 20.0  # [s] to reach a scheduler before giving up
+PROBE_TIMEOUT = 5.0  # [s] to open a TCP connection to a tcp:// scheduler, before Dask is asked
+
+_ADDRESS = re.compile(
+    r"(?:(?P<scheme>tcp|tls|ws|wss|ucx|inproc)://)?(?P<host>\[[0-9a-fA-F:.]+\]|[\w.-]+)(?::(?P<port>\d{1,5}))?"
+)
+
+
+def check_address(address: str) -> tuple[str, str, int | None]:
+    """(scheme, host, port) of a scheduler address like ``tcp://host:8786``, checked before Dask sees it.
+
+    Raises:
+        InvalidArgumentError: not of the form ``[SCHEME://]HOST:PORT`` (port 1-65535; tcp needs a port).
+    """
+    match = _ADDRESS.fullmatch(address)
+    port = None if match is None or match["port"] is None else int(match["port"])
+    scheme = "tcp" if match is None or match["scheme"] is None else match["scheme"]
+    if match is None or (port is not None and not 1 <= port <= 65535) or (scheme == "tcp" and port is None):
+        raise InvalidArgumentError(
+            f"scheduler address {address[:100]!r} is not of the form [tcp://]HOST:PORT, e.g. tcp://head:8786"
+        )
+    return scheme, match["host"].strip("[]"), port
+
+
+def _probe(address: str, host: str, port: int) -> None:
+    """Open (and close) a TCP connection to the scheduler: a quick, clean failure for a wrong address."""
+    try:
+        socket.create_connection((host, port), timeout=PROBE_TIMEOUT).close()
+    except OSError as exc:
+        raise GbPinError(f"cannot connect to the Dask scheduler {address!r}: {exc}") from exc
 
 
 def _import_distributed() -> Any:
@@ -55,6 +86,10 @@ def client_for(scheduler: Any, timeout: float | None = None) -> Any:
         GbPinError: Dask is not installed, or the scheduler cannot be reached.
         InvalidArgumentError: ``scheduler`` is none of the above.
     """
+    if isinstance(scheduler, str):  # checked (and, for tcp, reached) before Dask is imported
+        scheme, host, port = check_address(scheduler)
+        if scheme == "tcp" and port is not None:
+            _probe(scheduler, host, port)
     distributed = _import_distributed()
     if isinstance(scheduler, distributed.Client):
         yield scheduler

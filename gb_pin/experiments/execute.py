@@ -10,6 +10,8 @@ worker builds its robot from the name.
 from __future__ import annotations
 
 import os
+import threading
+import time
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -140,7 +142,9 @@ def _execute(
             for i in order:
                 done(i, run_one_trial(*tasks[i]))
         else:
-            with ProcessPoolExecutor(max_workers=min(workers or 1, len(todo))) as pool:
+            with ProcessPoolExecutor(
+                max_workers=min(workers or 1, len(todo)), initializer=watch_parent, initargs=(os.getpid(),)
+            ) as pool:
                 futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
                 for fut in as_completed(futures):
                     done(futures[fut], fut.result())
@@ -150,7 +154,38 @@ def _execute(
     return [r for r in results if r is not None]
 
 
+PARENT_POLL = 0.5  # [s] between a worker's checks that the process that started it is alive
+
+
+def watch_parent(parent: int) -> None:
+    """In a worker process: exit as soon as ``parent`` (the process running the trials) is gone.
+
+    A daemon thread polls the parent every :data:`PARENT_POLL` seconds, so killing ``gb-pin trials``
+    (even with SIGKILL) does not leave its workers computing for minutes.
+    """
+    started_by = os.getppid()
+
+    def poll() -> None:
+        while True:
+            time.sleep(PARENT_POLL)
+            try:
+                os.kill(parent, 0)
+                alive = os.getppid() == started_by
+            except ProcessLookupError:
+                alive = False
+            except PermissionError:  # the pid was reused by another user's process
+                alive = False
+            if not alive:
+                os._exit(1)
+
+    threading.Thread(target=poll, name="gb_pin-watch-parent", daemon=True).start()
+
+
 def _check_executor(workers: int | None, scheduler: Any) -> int | None:
+    if isinstance(scheduler, str):
+        from gb_pin.experiments.distributed import check_address
+
+        check_address(scheduler)  # a malformed address is refused before any work
     if scheduler is not None:
         if workers is not None:
             raise InvalidArgumentError(

@@ -16,9 +16,9 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._files import write_text
+from gb_pin._files import check_writable, write_text
 from gb_pin.exceptions import ResultFileError
-from gb_pin.experiments._json import plain
+from gb_pin.experiments._json import check_size, plain
 
 # What one trial needs: (robot name, movements, seed, movement counts to record, babble arguments).
 TrialTask = tuple[str, int, int, NDArray[np.int64], dict[str, Any]]
@@ -44,7 +44,7 @@ class TrialJournal:
     HEADER: ClassVar[dict[str, Any]] = {"format": "gb_pin.trial-journal", "format_version": 1}
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
-        self.path = os.fspath(path)
+        self.path = check_writable(path, "trial journal")
         self.done: dict[str, TrialOutput] = {}
         if os.path.exists(self.path):
             self._read()
@@ -67,6 +67,7 @@ class TrialJournal:
         )
 
     def _read(self) -> None:
+        check_size(self.path)
         try:
             with open(self.path, encoding="utf-8") as fh:
                 lines = fh.read().split("\n")
@@ -74,7 +75,7 @@ class TrialJournal:
             raise ResultFileError(f"{self.path}: unreadable trial journal ({exc})") from exc
         try:
             header = json.loads(lines[0])
-        except ValueError:
+        except (ValueError, RecursionError):
             header = None
         if header != self.HEADER:
             raise ResultFileError(f"{self.path}: not a gb_pin trial journal (first line {lines[0][:80]!r})")
@@ -82,15 +83,11 @@ class TrialJournal:
         for line in lines[1:]:
             try:
                 entry = json.loads(line)
-                out = (
-                    np.array(entry["error"], dtype=float),
-                    np.array(entry["home_distance"], dtype=float),
-                    int(entry["prototypes"]),
-                )
-                self.done[str(entry["key"])] = out
-                complete.append(line)
-            except (ValueError, KeyError, TypeError):
-                continue  # the last line of a run killed mid-write
+                out = _output(entry)
+            except (ValueError, KeyError, TypeError, RecursionError):
+                continue  # the last line of a run killed mid-write, or a line that is not a trial
+            self.done[entry["key"]] = out
+            complete.append(line)
         # Rewrite without a torn line, so that appended lines start on a fresh line.
         if len(complete) != len([ln for ln in lines[1:] if ln]):
             write_text(self.path, "\n".join([lines[0], *complete]) + "\n")
@@ -106,3 +103,27 @@ class TrialJournal:
             fh.write(line + "\n")
             fh.flush()
             os.fsync(fh.fileno())
+
+
+def _output(entry: Any) -> TrialOutput:
+    """A journal line's trial output, checked: a key string, two real 1-D curves of one length, a count.
+
+    Raises:
+        ValueError: anything else (the line is then ignored, and the trial recomputed).
+    """
+    if not isinstance(entry, dict) or not isinstance(entry.get("key"), str):
+        raise ValueError("not a trial line")
+    curves = []
+    for name in ("error", "home_distance"):
+        values = entry[name]
+        if not isinstance(values, list) or not all(
+            v is None or (isinstance(v, int | float) and not isinstance(v, bool)) for v in values
+        ):
+            raise ValueError(f"{name} is not a list of numbers")
+        curves.append(np.array([np.nan if v is None else v for v in values], dtype=float))
+    prototypes = entry["prototypes"]
+    if isinstance(prototypes, bool) or not isinstance(prototypes, int) or prototypes < 1:
+        raise ValueError("prototypes is not a count")
+    if curves[0].shape != curves[1].shape or np.any(np.isinf(curves[0])) or np.any(np.isinf(curves[1])):
+        raise ValueError("curves of different lengths or infinite")
+    return curves[0], curves[1], prototypes

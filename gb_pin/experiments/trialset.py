@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._files import write_json
+from gb_pin._files import check_writable, write_json
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
 from gb_pin.experiments._json import read_json
 from gb_pin.learn.metrics import speed
@@ -110,6 +110,7 @@ class TrialSet:
         """
         if not isinstance(raw, dict) or raw.get("format") != FORMAT:
             raise ResultFileError(f"{source}: not a gb_pin trials file")
+        _check_fields(raw, source)
         try:
             out = cls(
                 robot=str(raw["robot"]),
@@ -123,13 +124,48 @@ class TrialSet:
             )
         except (KeyError, TypeError, ValueError) as exc:
             raise ResultFileError(f"{source}: malformed trials file ({exc!r})") from exc
-        if out.error.shape != out.home_distance.shape or out.error.shape[1] != out.movements.shape[0]:
+        trials, points = out.error.shape
+        if (
+            out.error.shape != out.home_distance.shape
+            or out.movements.shape != (points,)
+            or out.prototypes.shape != (trials,)
+        ):
             raise ResultFileError(f"{source}: arrays of inconsistent shapes")
+        if out.movements.size and (out.movements[0] < 0 or np.any(np.diff(out.movements) <= 0)):
+            raise ResultFileError(f"{source}: movements must be increasing counts >= 0")
+        if np.any(np.isinf(out.error)) or np.any(np.isinf(out.home_distance)):
+            raise ResultFileError(f"{source}: infinite E^X or D^home")
         return out
+
+    def plot(self, path: str | os.PathLike[str] | None = None, ax: Any = None) -> Any:
+        """Median and quartiles (10 % and 90 % thin) of E^X and D^home over movements, log axes.
+
+        Args:
+            path: write the figure there (``.png``, ``.svg``, ``.pdf``), if given.
+            ax: draw into these matplotlib axes (D^home on a twin axis); default: a new two-panel figure.
+
+        Returns:
+            The ``matplotlib.figure.Figure``.
+
+        Raises:
+            GbPinError: matplotlib is not installed (``pip install 'gb_pin[plots]'``).
+        """
+        from gb_pin.runs.plot import plot_quantiles
+
+        params = ", ".join(
+            f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in self.parameters.items()
+        )
+        final = float(np.median(self.error[:, -1]))
+        title = (
+            f"{self.robot}: {self.trials} trials of {int(self.movements[-1])} movements"
+            + (f" ({params})" if params else "")
+            + f", median final $E^X$ = {final:.4g} m"
+        )
+        return plot_quantiles(title, self.movements, self.error, self.home_distance, path, ax)
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the trials to a JSON file (atomically: :func:`gb_pin._files.write_json`)."""
-        write_json(path, self.to_json())
+        write_json(check_writable(path, "trial set file"), self.to_json())
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> TrialSet:
@@ -140,3 +176,29 @@ class TrialSet:
         """
         path = os.fspath(path)
         return cls.from_json(read_json(path), path)
+
+
+def _check_fields(raw: dict[str, Any], source: str) -> None:
+    """Check the fields of a trials file before they are converted.
+
+    robot a string, seed an int >= 0, parameters an object, initial_error a finite number >= 0,
+    the arrays lists (of real numbers, checked when converted).
+
+    Raises:
+        ResultFileError: naming the field.
+    """
+    seed, e0 = raw.get("seed"), raw.get("initial_error")
+    problems = {
+        "robot": not isinstance(raw.get("robot"), str),
+        "seed": isinstance(seed, bool) or not isinstance(seed, int) or seed < 0,
+        "parameters": not isinstance(raw.get("parameters"), dict),
+        "initial_error": isinstance(e0, bool)
+        or not isinstance(e0, int | float)
+        or not np.isfinite(e0)
+        or e0 < 0,
+    }
+    for key in ("movements", "error", "home_distance", "prototypes"):
+        problems[key] = not isinstance(raw.get(key), list)
+    wrong = [k for k, bad in problems.items() if bad]
+    if wrong:
+        raise ResultFileError(f"{source}: malformed trials file (bad {', '.join(wrong)})")

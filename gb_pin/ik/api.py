@@ -40,6 +40,10 @@ SEED_NAMES = ("learned", "home")
 Seed = Literal["learned", "home"] | ArrayLike
 
 
+MAX_COORDINATE = 1e6
+"""Targets farther than this [m] are refused: no robot reaches them, and their residual would overflow."""
+
+
 def _seeds(
     robot: Kinematics, X: NDArray[np.float64], model: LocalLinearMap | None, seed: Seed
 ) -> tuple[NDArray[np.float64], str]:
@@ -54,7 +58,7 @@ def _seeds(
                     f"model maps {model.n_inputs_} -> {model.n_outputs_} dimensions, the robot "
                     f"{X.shape[1]} -> {m}"
                 )
-            return np.array(model.predict(X), order="C"), "learned"
+            return np.array(model.predict(X, warn=False), order="C"), "learned"  # refined: residuals tell
         if seed == "home":
             return np.tile(np.asarray(robot.home, dtype=np.float64), (X.shape[0], 1)), "home"
         raise InvalidArgumentError(f"seed must be one of {SEED_NAMES} or postures, got {seed!r}")
@@ -117,6 +121,11 @@ def solve(
     """
     chain = _chain(robot)
     pts = check.points("X", X, chain.n_task, allow_single=True)
+    if np.max(np.abs(pts)) > MAX_COORDINATE:
+        raise InvalidArgumentError(
+            f"X must lie within {MAX_COORDINATE:g} m of the origin (no robot reaches farther; the squared "
+            f"residual would overflow), got a coordinate of {float(np.max(np.abs(pts))):.3g}"
+        )
     settings = IKSettings(
         check.positive_float("tol", tol),
         check.positive_float("damping", damping),

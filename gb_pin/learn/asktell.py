@@ -176,7 +176,7 @@ class AskTell:
         assert self.forward is not None
         st = self.state
         self.sync()
-        Q = st.llm.predict(st.eval_targets)
+        Q = st.llm.predict(st.eval_targets, warn=False)
         distance = float(np.mean(np.linalg.norm(st.home - Q, axis=1)))
         Qc = np.clip(Q, st.lower, st.upper)
         X = np.array([np.asarray(self.forward(q), dtype=float) for q in Qc]).reshape(st.eval_targets.shape)

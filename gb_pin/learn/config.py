@@ -57,6 +57,9 @@ class Hyperparameter:
         return self.validate(self.name, value)
 
 
+MAX_PATH_LENGTH = 10**6
+"""The longest movement (path_length, L) accepted: the paper uses 25."""
+
 HYPERPARAMETERS: tuple[Hyperparameter, ...] = (
     Hyperparameter(
         "learning_rate", "eta", 0.1, float, check.positive_float,
@@ -75,8 +78,8 @@ HYPERPARAMETERS: tuple[Hyperparameter, ...] = (
         "d, the radius of the local-linear map's prototypes [m]",
     ),
     Hyperparameter(
-        "path_length", "L", 25, int, check.positive_int,
-        "L, time steps per movement (Eq. 3)",
+        "path_length", "L", 25, int, lambda name, value: check.positive_int(name, value, 1, MAX_PATH_LENGTH),
+        "L, time steps per movement (Eq. 3); at most 10^6",
     ),
     Hyperparameter(
         "p_home", "p_home", 0.1, float, check.probability,
@@ -117,8 +120,9 @@ class BabbleConfig:
     p_home: float = BY_NAME["p_home"].default  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
+        # Store plain Python floats/ints (numpy scalars would break the JSON of files).
         for h in HYPERPARAMETERS:
-            h.check(getattr(self, h.name))
+            object.__setattr__(self, h.name, h.check(getattr(self, h.name)))
 
     @classmethod
     def resolve(cls, n_joints: int, **values: Any) -> BabbleConfig:

@@ -98,9 +98,11 @@ class RecordedSteps:
             return None
         if len(present) != len(keys):
             raise InvalidArgumentError(f"incomplete recording (has {present})")
+        raw = {k: np.asarray(arrays[prefix + k]) for k in cls.FIELDS}
+        if not all(a.dtype.kind in "iuf" and a.ndim >= 1 for a in raw.values()):
+            raise InvalidArgumentError("recording arrays must be arrays of real numbers")
         values: dict[str, Any] = {
-            k: np.asarray(arrays[prefix + k]).astype(dtype)
-            for k, dtype in zip(cls.FIELDS, cls.DTYPES, strict=True)
+            k: raw[k].astype(dtype) for k, dtype in zip(cls.FIELDS, cls.DTYPES, strict=True)
         }
         rec = cls(**values)
         R = rec.step.shape[0]

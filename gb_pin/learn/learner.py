@@ -168,7 +168,7 @@ class GoalBabbling:
         if not hasattr(self, "state_"):
             raise NotFittedError("this GoalBabbling learner has no run to resume: call fit() first")
         state = self.state_
-        until = check.positive_int("until", until, minimum=0)
+        until = check.movements("until", until)
         observe_every = check.positive_int("observe_every", observe_every)
         total = int(state.schedule[-1])
         chunk = observe_every if observer is not None else max(1, min(total // 100, 1000))

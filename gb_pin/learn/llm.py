@@ -9,13 +9,14 @@ The compiled kernels and the conventions where the paper is silent are in
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import InvalidArgumentError, NotFittedError
+from gb_pin.exceptions import ExtrapolationWarning, InvalidArgumentError, NotFittedError
 from gb_pin.learn.llm_kernels import MapArrays, Scratch, llm_jacobian, llm_learn, llm_predict_many
 
 
@@ -34,6 +35,8 @@ class LocalLinearMap:
     """
 
     ARRAY_NAMES = ("prototypes", "matrices", "offsets")
+    #: :meth:`predict` warns of queries farther than this many radii d from every prototype.
+    FAR_RADII = 3.0
 
     def __init__(self, radius: float = 0.1, learning_rate: float = 0.1) -> None:
         self.radius = radius
@@ -193,13 +196,23 @@ class LocalLinearMap:
         return int(self._O.shape[1])
 
     # -- scikit-learn style interface -------------------------------------------
-    def predict(self, X: ArrayLike) -> NDArray[np.float64]:
-        """g(x) for (N, n) inputs -> (N, m); a single (n,) input gives (m,)."""
+    def predict(self, X: ArrayLike, *, warn: bool = True) -> NDArray[np.float64]:
+        """g(x) for (N, n) inputs -> (N, m); a single (n,) input gives (m,).
+
+        Args:
+            X: inputs (effector positions) [m], (N, n) or (n,).
+            warn: warn (:class:`~gb_pin.exceptions.ExtrapolationWarning`) of inputs farther than
+                ``FAR_RADII`` radii d from every prototype, where the map only extrapolates; the
+                learner's own evaluations pass False.
+        """
         self._check_fitted()
         pts = check.points("X", X, self.n_inputs_, allow_single=True)
         single = np.ndim(X) == 1
         out = np.empty((pts.shape[0], self.n_outputs_))
-        llm_predict_many(pts, self.kernel(), self._K, out)
+        nearest = np.empty(pts.shape[0])  # min_k ||x - p_k||^2 / d^2, from the prediction itself
+        llm_predict_many(pts, self.kernel(), self._K, out, nearest)
+        if warn:
+            self._warn_far(pts, nearest)
         bad = np.flatnonzero(~np.all(np.isfinite(out), axis=1))
         if bad.size:
             raise InvalidArgumentError(
@@ -207,6 +220,24 @@ class LocalLinearMap:
                 "region that the linear extrapolation overflows; give inputs near the targets"
             )
         return out[0] if single else out
+
+    def _warn_far(self, pts: NDArray[np.float64], nearest_sq: NDArray[np.float64]) -> None:
+        """An ExtrapolationWarning naming the farthest of ``pts`` outside the learned region, if any.
+
+        ``nearest_sq``: (N,) min_k ||x - p_k||^2 / d^2 of each input (computed by the prediction).
+        """
+        far = np.flatnonzero(nearest_sq > self.FAR_RADII**2)
+        if far.size:
+            nearest = np.sqrt(nearest_sq) * self._radius
+            worst = far[np.argmax(nearest[far])]
+            warnings.warn(
+                f"{far.size} of {pts.shape[0]} inputs lie more than {self.FAR_RADII:g} radii "
+                f"(d = {self._radius:g} m) from every prototype, e.g. X row {int(worst)} = "
+                f"{pts[worst].tolist()} is {nearest[worst]:.3g} m from the nearest: the map only "
+                "extrapolates there and may be far off (query inside the learned region, near the targets)",
+                ExtrapolationWarning,
+                stacklevel=3,
+            )
 
     def jacobian(self, x: ArrayLike) -> NDArray[np.float64]:
         """dg/dx at one input (n,) -> (m, n), derivative of the responsibilities included."""

@@ -179,7 +179,7 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def llm_predict_many(X, lm, K, out):  # type: ignore[no-untyped-def]
-    """g(x) for every row of X (N, n) into out (N, m)."""
+def llm_predict_many(X, lm, K, out, nearest):  # type: ignore[no-untyped-def]
+    """g(x) for every row of X (N, n) into out (N, m); min_k ||u_k||^2 of each row into nearest (N,)."""
     for r in range(X.shape[0]):
-        llm_predict(X[r], lm, K, out[r])
+        _, nearest[r] = llm_predict(X[r], lm, K, out[r])

@@ -116,7 +116,15 @@ class BabbleState:
         else:
             last = movements if record.last is None else min(record.last, movements)
             st.record = (record.every, record.first, last)
-            size = max(0, (last - record.first) * config.path_length // record.every + 1)
+            final = max(0, (last - record.first) * config.path_length // record.every + 1)
+            nbytes = final * 8 * (2 + m + 2 * n)
+            if nbytes > MAX_RECORD_BYTES:
+                raise InvalidArgumentError(
+                    f"record={record!r} over {movements} movements would record {final} steps "
+                    f"({nbytes / 2**30:.1f} GiB); at most {MAX_RECORD_BYTES / 2**30:g} GiB "
+                    "(gb_pin.learn.state.MAX_RECORD_BYTES): record fewer movements or every k-th step"
+                )
+            size = min(final, 4096)  # grown on demand by the loop (NEED_RECORD_CAPACITY)
         st.rec = {k: np.zeros((size, m) if k == "posture" else (size, n) if k in ("target", "position")
                               else size, dtype=d) for k, d in cls.REC_DTYPES.items()}  # fmt: skip
         return st
@@ -304,6 +312,10 @@ class BabbleState:
         return RecordedSteps(**{k: self.rec[k][:c].copy() for k in RecordedSteps.FIELDS})
 
 
+MAX_RECORD_BYTES = 2 * 2**30
+"""The largest recording a run accepts (checked before the run starts; buffers grow as it goes)."""
+
+
 def _dimensions(kinematics: Any) -> tuple[int, int]:
     """(m, n) of a robot without a compiled chain (``n_joints``, ``n_task``)."""
     try:
@@ -318,9 +330,15 @@ def _schedule(schedule: ArrayLike | None, movements: int) -> NDArray[np.int64]:
     if schedule is None:
         return evaluation_schedule(movements)
     try:
-        at = np.unique(np.asarray(schedule, dtype=np.int64))
+        given = np.asarray(schedule)
+        at = np.unique(given.astype(np.int64))
+        integral = given.dtype.kind in "iu" or (
+            given.dtype.kind == "f" and np.array_equal(at, np.unique(given))
+        )
     except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidArgumentError(f"schedule must be movement counts, got {schedule!r}") from exc
+    if not integral:
+        raise InvalidArgumentError(f"schedule must be integer movement counts, got {schedule!r}")
     if at.ndim != 1 or at.size == 0 or at[0] < 0 or at[-1] > movements:
         raise InvalidArgumentError(
             f"schedule must hold movement counts in [0, {movements}], got {schedule!r}"

@@ -17,6 +17,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from gb_pin import _validation as check
+from gb_pin._files import check_directory
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.experiments.trials import Condition, TrialSet
 from gb_pin.reproduce.builders import figure4, figure5, figure7, figure8, throughput
@@ -128,6 +129,7 @@ def reproduce(
     seed = check.positive_int("seed", seed, minimum=0)
     _check(names, movements, formats)
     require_matplotlib()
+    check_directory(out, "out")
     st = Settings(trials=trials, movements=movements, seed=seed, out=os.fspath(out))
     os.makedirs(st.out, exist_ok=True)
     say = log or (lambda _line: None)

@@ -35,7 +35,7 @@ class _Snapshots:
 
     def update(self, state: Any) -> None:
         if state.movements in self.at:
-            self.postures[state.movements] = state.llm.predict(self.targets)
+            self.postures[state.movements] = state.llm.predict(self.targets, warn=False)
 
 
 def arm_points(chain: Any, q: NDArray[np.float64]) -> NDArray[np.float64]:

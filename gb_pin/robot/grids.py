@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -9,6 +10,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin.exceptions import InvalidArgumentError
+
+MAX_GRID_POINTS = 10**6
+"""The most points a target grid may have (10^6 targets of 3 axes are 24 MB)."""
+
+
+def check_size(counts: Sequence[int], shape: Any) -> None:
+    """Raise InvalidArgumentError if a grid of ``counts`` points per axis exceeds :data:`MAX_GRID_POINTS`."""
+    if math.prod(counts) > MAX_GRID_POINTS:
+        raise InvalidArgumentError(
+            f"a target grid of shape {shape!r} has {math.prod(counts)} points; at most {MAX_GRID_POINTS} "
+            "(gb_pin.robot.grids.MAX_GRID_POINTS)"
+        )
 
 
 def grid_shape(shape: Sequence[int] | None, n_task: int) -> tuple[int, ...]:
@@ -25,6 +38,7 @@ def grid_shape(shape: Sequence[int] | None, n_task: int) -> tuple[int, ...]:
         or any(isinstance(c, bool) or c != k for c, k in zip(shape, counts, strict=True))
     ):
         raise InvalidArgumentError(f"grid shape must be {n_task} point counts >= 1, got {shape!r}")
+    check_size(counts, shape)
     return counts
 
 
@@ -32,6 +46,9 @@ def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
     """A regular grid over the box ``[lower, upper]``, the first axis varying slowest, as (N, n) [m].
 
     An axis with one point sits mid-way between its bounds.
+
+    Raises:
+        InvalidArgumentError: bounds not finite or not ordered, or more than :data:`MAX_GRID_POINTS` points.
     """
     try:
         lo = np.asarray(lower, dtype=float)
@@ -47,6 +64,7 @@ def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
         )
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
         raise InvalidArgumentError(f"a target grid needs finite lower <= upper, got {lower!r}, {upper!r}")
+    check_size(counts, shape)
     axes = [
         np.linspace(a, b, c) if c > 1 else np.array([(a + b) / 2])
         for a, b, c in zip(lo, hi, counts, strict=True)
@@ -57,6 +75,7 @@ def grid_targets(lower: Any, upper: Any, shape: Any) -> NDArray[np.float64]:
 
 def regular_grid(center: ArrayLike, half_width: float, shape: Sequence[int]) -> NDArray[np.float64]:
     """Grid of ``shape`` points over the cube ``center +- half_width``, the first axis slowest [m]."""
+    check_size(shape, shape)
     c = np.asarray(center, dtype=float)
     axes = [
         np.linspace(v - half_width, v + half_width, k) if k > 1 else np.array([v])

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib.metadata
 import os
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -256,6 +257,36 @@ def describe(name: str) -> RobotDescription:
     raise UnknownRobotError(f"unknown example-robot-data robot {name!r}; {hint}valid: {', '.join(valid)}")
 
 
+MAX_URDF_BYTES = 64 * 2**20
+"""The largest URDF file read (example-robot-data's largest is under 1 MiB)."""
+MAX_URDF_ELEMENTS = 1000
+"""The most ``<link>`` and the most ``<joint>`` elements a URDF may have (pinocchio's parser
+recurses along the tree and crashes the interpreter on chains of a few thousand links)."""
+
+
+def check_urdf_size(urdf: Path) -> None:
+    """Refuse a URDF file too big for pinocchio's parser, before the parser sees it.
+
+    Raises:
+        InvalidArgumentError: over :data:`MAX_URDF_BYTES` bytes, or over :data:`MAX_URDF_ELEMENTS`
+            links or joints.
+    """
+    size = urdf.stat().st_size
+    if size > MAX_URDF_BYTES:
+        raise InvalidArgumentError(
+            f"URDF file {str(urdf)!r} has {size} bytes; gb_pin reads at most {MAX_URDF_BYTES} "
+            "(gb_pin.robot.models.MAX_URDF_BYTES)"
+        )
+    text = urdf.read_bytes()
+    for tag in (b"link", b"joint"):
+        count = len(re.findall(rb"<\s*" + tag + rb"[\s/>]", text))
+        if count > MAX_URDF_ELEMENTS:
+            raise InvalidArgumentError(
+                f"URDF file {str(urdf)!r} has {count} <{tag.decode()}> elements; gb_pin reads at most "
+                f"{MAX_URDF_ELEMENTS} (gb_pin.robot.models.MAX_URDF_ELEMENTS)"
+            )
+
+
 def load_urdf_model(
     path: str | os.PathLike[str],
     *,
@@ -271,11 +302,12 @@ def load_urdf_model(
         floating_base: add a free-flyer root joint (for mobile robots).
 
     Raises:
-        InvalidArgumentError: missing or malformed URDF or SRDF.
+        InvalidArgumentError: missing, malformed or too large (:func:`check_urdf_size`) URDF or SRDF.
     """
     urdf = Path(os.fspath(path))
     if not urdf.is_file():
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} does not exist")
+    check_urdf_size(urdf)
     try:
         if floating_base:
             model = pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer())

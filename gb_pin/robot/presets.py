@@ -57,6 +57,9 @@ __all__ = [
     "robots",
 ]
 
+MAX_PLANAR_JOINTS = 500
+"""The longest planar chain ``planarN`` builds (the paper's go up to 50 joints)."""
+
 _SOURCES = ("planar", "example-robot-data", "urdf")
 _COMMON_KEYS = ("name", "source", "description", "kind", "frame", "axes", "home", "targets", "learner")
 _SOURCE_KEYS = {
@@ -245,17 +248,23 @@ def get_preset(name: str) -> tuple[RobotPreset, int | None]:
             continue
         match = re.fullmatch(re.escape(preset.name) + r"(\d+)", name)
         if match:
-            m = int(match.group(1))
+            digits = match.group(1)
+            m = int(digits) if len(digits) <= 9 else MAX_PLANAR_JOINTS + 1
             minimum = int(preset.options.get("min_joints", 2))
-            if m < minimum:
-                raise UnknownRobotError(f"robot {name!r}: {preset.name}N needs N >= {minimum}, got N = {m}")
+            if not minimum <= m <= MAX_PLANAR_JOINTS:
+                raise UnknownRobotError(
+                    f"robot {name[:40]!r}: {preset.name}N needs {minimum} <= N <= {MAX_PLANAR_JOINTS} "
+                    f"(gb_pin.robot.presets.MAX_PLANAR_JOINTS), got N = {digits[:20]}"
+                    + ("..." if len(digits) > 20 else "")
+                )
             return preset, m
     if name in presets and presets[name].source != "planar":
         return presets[name], None
     candidates = [p.name if p.source != "planar" else f"{p.name}5" for p in presets.values()]
-    close = list(dict.fromkeys(closest(name, [*valid, *candidates], n=3)))
+    close = list(dict.fromkeys(closest(name, [*valid, *candidates], n=3))) if len(name) <= 100 else []
     hint = f"; did you mean {', '.join(close)}?" if close else ";"
-    raise UnknownRobotError(f"unknown robot {name!r}{hint} valid presets: {', '.join(valid)} (N >= 2)")
+    planar = f"(2 <= N <= {MAX_PLANAR_JOINTS})"
+    raise UnknownRobotError(f"unknown robot {name[:100]!r}{hint} valid presets: {', '.join(valid)} {planar}")
 
 
 def _preset_path(path: str) -> str:
@@ -270,7 +279,8 @@ def load_robot(name: str) -> KinematicTarget:
     """Load a preset robot as a :class:`KinematicTarget` with its home posture and targets.
 
     Args:
-        name: a preset name, e.g. ``"planar5"``, ``"planar20"`` (any N >= 2),
+        name: a preset name, e.g. ``"planar5"``, ``"planar20"`` (any 2 <= N <= 500,
+            :data:`MAX_PLANAR_JOINTS`),
             ``"talos_left_arm"``, ``"panda"`` (see :func:`robots`).
 
     Raises:

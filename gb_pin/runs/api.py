@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._files import check_writable
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
 from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import Recording
@@ -114,7 +115,7 @@ def babble(
         DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
     target, name, defaults = setup.resolve_robot(robot)
-    movements = check.positive_int("movements", movements)
+    movements = check.movements("movements", movements, minimum=1)
     X = setup.target_set(target, targets)  # checked; warns about targets beyond reach
     given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
              "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
@@ -122,19 +123,25 @@ def babble(
     rng, int_seed = setup.generator(seed, init)
     if checkpoint_every is not None:
         check.positive_int("checkpoint_every", checkpoint_every)
+    setup.check_hooks(callback=callback, viewer=viewer, record=record)
+    if checkpoint is not None:
+        check_writable(checkpoint, "checkpoint")
+    from gb_pin.runs.checkpoint import checkpoint_lock
+
     if isinstance(target, FunctionTarget):
         from gb_pin.runs.session import babble_function
 
-        return babble_function(target, learner, X, movements, rng, int_seed, callback, viewer, checkpoint,
-                                dict(eval_targets=eval_targets, schedule=schedule, record=record, goals=goals,
-                                     changes=changes, init=init))  # fmt: skip
+        with checkpoint_lock(checkpoint):
+            return babble_function(target, learner, X, movements, rng, int_seed, callback, viewer, checkpoint,
+                                   dict(eval_targets=eval_targets, schedule=schedule, record=record,
+                                        goals=goals, changes=changes, init=init))  # fmt: skip
     learner.state_ = setup.start_state(
         target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
         goals=goals, changes=changes, init=init,
     )  # fmt: skip
     runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
     observer = _attach(viewer, target, X)
-    with _deferred_sigint(enabled=checkpoint is not None) as interrupted:
+    with checkpoint_lock(checkpoint), _deferred_sigint(enabled=checkpoint is not None) as interrupted:
         learner.resume(
             movements,
             callback=callback,
@@ -170,8 +177,10 @@ def resume(
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one written for another robot.
     """
-    from gb_pin.runs.checkpoint import read_checkpoint
+    from gb_pin.runs.checkpoint import checkpoint_lock, read_checkpoint
 
+    check_writable(checkpoint, "checkpoint")
+    setup.check_hooks(callback=callback, viewer=viewer)
     state, info = read_checkpoint(checkpoint)
     if robot is None:
         if info.robot is None:
@@ -198,7 +207,7 @@ def resume(
     learner.state_ = state
     runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)
     observer = _attach(viewer, robot, state.targets)
-    with _deferred_sigint(enabled=True) as interrupted:
+    with checkpoint_lock(checkpoint), _deferred_sigint(enabled=True) as interrupted:
         learner.resume(
             info.movements,
             callback=callback,
@@ -271,7 +280,23 @@ class _Runner:
             config=state.config,
             wall_time=self.wall(),
         )
-        write_checkpoint(self.path, state, info)
+        try:
+            write_checkpoint(self.path, state, info)
+        except OSError as exc:  # e.g. the disk filled up: keep the run's state somewhere
+            import warnings
+
+            from gb_pin._files import fallback_path
+            from gb_pin.exceptions import GbPinWarning
+
+            where = fallback_path(self.path)
+            write_checkpoint(where, state, info)
+            warnings.warn(
+                f"cannot write the checkpoint {os.fspath(self.path)!r} ({exc}); "
+                f"writing it to {where!r} from now on",
+                GbPinWarning,
+                stacklevel=2,
+            )
+            self.path = where
 
     def result(self, learner: GoalBabbling, interrupted: bool) -> BabbleResult:
         if interrupted:

@@ -4,19 +4,23 @@ A checkpoint holds everything the run needs to continue exactly as if it had
 never stopped: the local-linear map, the exploration noise, the position on the
 current path, the random generator's state, the history and the recording. Files
 are written to a temporary name, flushed to disk and renamed, so a crash (even
-SIGKILL) mid-write leaves the previous checkpoint intact. They are read with
-``allow_pickle=False``.
+SIGKILL) mid-write leaves the previous checkpoint intact. They are read member by
+member (:func:`gb_pin.runs.archive.read_archive`): plain arrays only, never pickle.
 """
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass
 
-from gb_pin.exceptions import GbPinError, ResultFileError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError, ResultFileError
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.goals import make_goals
 from gb_pin.learn.state import BabbleState
+from gb_pin.runs import fields
 from gb_pin.runs.archive import atomic_savez, read_archive
 
 FORMAT = "gb_pin.checkpoint"
@@ -70,14 +74,15 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
     path = os.fspath(path)
     arrays, meta = read_archive(path, "checkpoint", FORMAT, FORMAT_VERSION)
     try:
-        config = BabbleConfig(**meta["config"])
+        config = BabbleConfig(**fields.config(path, meta))
+        movements = fields.count(path, meta, "movements")
         info = CheckpointInfo(
-            robot=meta["robot"],
-            target_name=str(meta["target_name"]),
-            movements=int(meta["movements"]),
-            seed=meta["seed"],
+            robot=fields.optional_str(path, meta, "robot"),
+            target_name=str(fields.optional_str(path, meta, "target_name")),
+            movements=movements,
+            seed=fields.seed(path, meta),
             config=config,
-            wall_time=float(meta["wall_time"]),
+            wall_time=fields.seconds(path, meta, "wall_time"),
         )
         goals = meta.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
         if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
@@ -89,3 +94,47 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted checkpoint ({exc!r})") from exc
     return state, info
+
+
+@contextlib.contextmanager
+def checkpoint_lock(path: str | os.PathLike[str] | None) -> Iterator[None]:
+    """Hold an exclusive lock on ``path`` (a lock file beside it) for the duration of a run.
+
+    Two runs writing one checkpoint would silently alternate; the second is refused instead.
+    Nothing is locked for ``path`` None, or where the file system has no ``flock``.
+
+    Raises:
+        InvalidArgumentError: another run holds the lock.
+    """
+    if path is None:
+        yield
+        return
+    full = os.path.abspath(os.fspath(path))
+    lock = os.path.join(os.path.dirname(full), f".{os.path.basename(full)}.lock")
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError as exc:
+            os.close(fd)
+            raise InvalidArgumentError(
+                f"checkpoint {os.fspath(path)!r} is being written by another run (it holds {lock!r}); "
+                "give this run another checkpoint file"
+            ) from exc
+        except OSError:  # no flock on this file system: run unlocked
+            os.close(fd)
+            yield
+            return
+        try:
+            same = os.fstat(fd).st_ino == os.stat(lock).st_ino  # not unlinked by a finishing run meanwhile
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        yield
+    finally:
+        with contextlib.suppress(OSError):
+            os.remove(lock)
+        os.close(fd)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -15,6 +16,7 @@ from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.state import BabbleState
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.plot import plot_result
 from gb_pin.runs.results_file import read_result, write_result
 
 
@@ -73,6 +75,21 @@ class BabbleResult:
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
         write_result(self, path)
+
+    def plot(self, path: str | os.PathLike[str] | None = None, ax: Any = None) -> Any:
+        """E^X and D^home over movements in the paper's style (:func:`gb_pin.runs.plot.plot_result`).
+
+        Args:
+            path: write the figure there (``.png``, ``.svg``, ``.pdf``), if given.
+            ax: draw into these matplotlib axes (D^home on a twin axis); default: a new two-panel figure.
+
+        Returns:
+            The ``matplotlib.figure.Figure``.
+
+        Raises:
+            GbPinError: matplotlib is not installed (``pip install 'gb_pin[plots]'``).
+        """
+        return plot_result(self, path, ax)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:

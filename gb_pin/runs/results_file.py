@@ -1,18 +1,18 @@
-"""The result file: one ``.npz`` of plain arrays and a JSON header, read with ``allow_pickle=False``."""
+"""The result file: one ``.npz`` of plain arrays and a JSON header, read without pickle (``runs.archive``)."""
 
 from __future__ import annotations
 
 import os
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
+from gb_pin._files import check_writable
 from gb_pin.exceptions import GbPinError, ResultFileError
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs import fields
 from gb_pin.runs.archive import atomic_savez, read_archive
 
 if TYPE_CHECKING:
@@ -50,7 +50,7 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         "steps": result.steps,
         "wall_time": result.wall_time,
     }
-    path = os.fspath(path)
+    path = check_writable(path, "result file")
     recording = {} if result.recording is None else result.recording.to_arrays()
     atomic_savez(
         path,
@@ -80,41 +80,45 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
     path = os.fspath(path)
     arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
     try:
+        robot = fields.optional_str(path, meta, "robot")
+        seed = fields.seed(path, meta)
+        movements, steps = fields.count(path, meta, "movements"), fields.count(path, meta, "steps")
+        wall_time = fields.seconds(path, meta, "wall_time")
+        for key in ("n_joints", "n_task"):
+            if isinstance(meta.get(key), bool) or not isinstance(meta.get(key), int):
+                raise ResultFileError(f"{path}: {key} must be an integer, got {str(meta.get(key))[:80]!r}")
         if target is None:
-            if meta["robot"] is None:
+            if robot is None:
                 raise ResultFileError(
                     f"{path}: saved from a custom KinematicTarget {meta['target_name']!r}; "
                     "pass target= to load_result"
                 )
-            target = load_robot(meta["robot"])
+            target = load_robot(robot)
         if (target.n_joints, target.n_task) != (meta["n_joints"], meta["n_task"]):
             raise ResultFileError(
                 f"{path}: saved for {meta['n_joints']} joints and {meta['n_task']} task axes, "
                 f"but the target has {target.n_joints} and {target.n_task}"
             )
-        config = BabbleConfig(**meta["config"])
+        config = BabbleConfig(**fields.config(path, meta))
         model = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate)
         if (model.n_outputs_, model.n_inputs_) != (target.n_joints, target.n_task):
             raise ResultFileError(
                 f"{path}: model arrays of {model.n_outputs_} outputs, {model.n_inputs_} inputs"
             )
         recording = RecordedSteps.from_arrays(arrays, target.n_joints, target.n_task)
-        history = History(
-            movements=arrays["movements"].astype(np.int64),
-            error=arrays["error"].astype(float),
-            home_distance=arrays["home_distance"].astype(float),
-        )
+        moves, error, home_distance = fields.history(path, arrays)
+        history = History(movements=moves, error=error, home_distance=home_distance)
         return dict(
             target=target,
-            targets=arrays["targets"].astype(float),
+            targets=fields.targets(path, arrays, target.n_task),
             history=history,
             model=model,
             config=config,
-            seed=meta["seed"],
-            robot=meta["robot"],
-            movements=int(meta["movements"]),
-            steps=int(meta["steps"]),
-            wall_time=float(meta["wall_time"]),
+            seed=seed,
+            robot=robot,
+            movements=movements,
+            steps=steps,
+            wall_time=wall_time,
             recording=recording,
         )
     except GbPinError as exc:

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._files import check_writable
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.asktell import AskTell
 from gb_pin.learn.goals import GoalGenerator
@@ -185,12 +186,15 @@ def babble_session(
         InvalidArgumentError: any other bad argument.
     """
     target, name, defaults = setup.resolve_robot(robot)
-    movements = check.positive_int("movements", movements)
+    movements = check.movements("movements", movements, minimum=1)
     X = setup.target_set(target, targets)
     given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
              "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
     learner = setup.make_learner(defaults, given)
     rng, int_seed = setup.generator(seed, init)
+    setup.check_hooks(record=record)
+    if checkpoint is not None:
+        check_writable(checkpoint, "checkpoint")
     state = setup.start_state(
         target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
         goals=goals, changes=changes, init=init,
@@ -213,6 +217,7 @@ def resume_session(
     from gb_pin.robot.presets import load_robot
     from gb_pin.runs.checkpoint import read_checkpoint
 
+    check_writable(checkpoint, "checkpoint")
     state, info = read_checkpoint(checkpoint)
     if robot is None:
         if info.robot is None:

@@ -51,8 +51,45 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
     )
 
 
+def check_hooks(callback: Any = None, viewer: Any = None, record: Any = None) -> None:
+    """Refuse, before any work, hooks of the wrong type.
+
+    A callback must be callable, a viewer have ``start`` and ``update``, and ``record`` be a
+    :class:`~gb_pin.learn.history.Recording`.
+
+    Raises:
+        InvalidArgumentError: naming the argument and what is valid.
+    """
+    if callback is not None and not callable(callback):
+        raise InvalidArgumentError(
+            f"callback must be callable (called with the movement count), got {callback!r}"
+        )
+    if viewer is not None and not (
+        callable(getattr(viewer, "start", None)) and callable(getattr(viewer, "update", None))
+    ):
+        raise InvalidArgumentError(
+            f"viewer must have start(target, targets) and update(state) methods (e.g. gb_pin.viewer.Viewer), "
+            f"got {viewer!r}"
+        )
+    if record is not None and not isinstance(record, Recording):
+        raise InvalidArgumentError(
+            "record must be a gb_pin.Recording (e.g. Recording(every=1, first=0, last=50)) or None, "
+            f"got {record!r}"
+        )
+
+
 def make_learner(defaults: dict[str, Any], given: dict[str, Any]) -> GoalBabbling:
     """The learner: values given, else the preset's, else the table's defaults (gb_pin.learn.config)."""
+    if given.get("sigma") is not None and given["sigma"] == 0:
+        import warnings
+
+        from gb_pin.exceptions import GbPinWarning
+
+        warnings.warn(
+            "sigma=0 means no exploration: goal babbling learns nothing new (the map stays near home)",
+            GbPinWarning,
+            stacklevel=3,
+        )
     params: dict[str, Any] = {}
     for name in NAMES:
         value = given.get(name)

@@ -25,7 +25,8 @@ Modules, each one concept (none imports one that imports it back):
 * what is drawn: :mod:`~gb_pin.viewer.scene` composes the robot's figure
   (:mod:`~gb_pin.viewer.figure`, :mod:`~gb_pin.viewer.stick`, :mod:`~gb_pin.viewer.meshes`:
   the viewer's only Pinocchio user), :mod:`~gb_pin.viewer.markers`,
-  :mod:`~gb_pin.viewer.overlay` and :mod:`~gb_pin.viewer.animation`, from
+  :mod:`~gb_pin.viewer.overlay`, :mod:`~gb_pin.viewer.animation` and :mod:`~gb_pin.viewer.legend`
+  (the text box: robot, movement r, E^X, D^home, colours), from
   :mod:`~gb_pin.viewer.shapes`, :mod:`~gb_pin.viewer.geometry` and :mod:`~gb_pin.viewer.style`;
 * transport: :mod:`~gb_pin.viewer.commands` (encoding, the window protocol),
   :mod:`~gb_pin.viewer.cache` (scene cache, offline window), :mod:`~gb_pin.viewer.page`

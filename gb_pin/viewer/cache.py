@@ -9,7 +9,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+import umsgpack
+
 from gb_pin.viewer.commands import Command, Encoded, encode, property_of
+from gb_pin.viewer.legend import CONTROL, remove_control
 from gb_pin.viewer.page import html_page
 
 
@@ -21,7 +24,9 @@ class SceneCache:
     """The scene as a browser sees it: per path the last object, transform and properties; one animation.
 
     Unlike meshcat's server, repeated ``set_property`` calls replace each other (a
-    live viewer toggles visibility at every frame), so the cache stays bounded.
+    live viewer toggles visibility at every frame), so the cache stays bounded. The legend's
+    ``set_control`` (:mod:`~gb_pin.viewer.legend`) is kept last-only too: replayed to live
+    browsers, and written as static HTML into exported pages (their policy runs no evaluated code).
     """
 
     def __init__(self) -> None:
@@ -29,6 +34,8 @@ class SceneCache:
         self._transforms: dict[tuple[str, ...], bytes] = {}
         self._properties: dict[tuple[tuple[str, ...], str], bytes] = {}
         self._animation: bytes | None = None
+        self._legend: bytes | None = None
+        self.legend_html = ""
 
     def apply(self, kind: str, path: str, data: bytes, prop: str = "") -> None:
         """Record one command."""
@@ -41,6 +48,10 @@ class SceneCache:
             self._properties[(key, prop)] = data
         elif kind == "set_animation":
             self._animation = data
+        elif kind == "set_control":
+            command = umsgpack.unpackb(data)
+            if command.get("name") == CONTROL:
+                self._legend, self.legend_html = data, str(command.get("html", ""))
         elif kind == "delete":
             n = len(key)
             for table in (self._objects, self._transforms):
@@ -52,15 +63,21 @@ class SceneCache:
                 self._animation = None
 
     def messages(self) -> list[bytes]:
-        """Commands that rebuild the scene: objects, properties, transforms, then the animation."""
+        """What rebuilds the scene in a live page: objects, properties, transforms, animation, legend."""
+        out = self._scene_messages()
+        if self._legend is not None:
+            out += [self._legend, encode(remove_control())[2]]
+        return out
+
+    def _scene_messages(self) -> list[bytes]:
         out = [*self._objects.values(), *self._properties.values(), *self._transforms.values()]
         if self._animation is not None:
             out.append(self._animation)
         return out
 
     def html(self, title: str = "gb_pin") -> str:
-        """One self-contained HTML page showing the scene (see :func:`gb_pin.viewer.page.html_page`)."""
-        return html_page(self.messages(), title)
+        """One self-contained HTML page: the scene and its legend (:func:`~gb_pin.viewer.page.html_page`)."""
+        return html_page(self._scene_messages(), title, overlay=self.legend_html)
 
 
 class OfflineWindow:

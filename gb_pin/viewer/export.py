@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 from gb_pin._files import write_text
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.viewer.dependencies import require_meshcat
+from gb_pin.viewer.legend import result_status
 from gb_pin.viewer.replay import replay_window
 
 if TYPE_CHECKING:
@@ -59,7 +60,7 @@ def export_replay(
     from gb_pin.viewer.cache import OfflineWindow
 
     window = OfflineWindow()
-    replay_window(window, result, movements, speed, visual_model=visual_model)
+    replay_window(window, result, movements, speed, visual_model=visual_model)  # labels the scene
     write_html(path, window.scene.html(title=f"gb_pin replay: {result.target.name}"))
 
 
@@ -79,5 +80,8 @@ def export_model(
     window = OfflineWindow()
     scene = Scene(window, result.target, result.targets, trail=0, visual_model=visual_model)
     scene.draw_static()
-    scene.show_model(result.inverse(scene.targets), few=few)
+    scene.show_model(result.model.predict(scene.targets, warn=False), few=few)
+    scene.label(
+        result_status(result), f"blue and dark lines: the model learned in {result.movements} movements"
+    )
     write_html(path, window.scene.html(title=f"gb_pin model: {result.target.name}"))

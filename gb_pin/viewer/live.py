@@ -17,6 +17,7 @@ import time
 import warnings
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from gb_pin import _validation as check
@@ -99,6 +100,7 @@ class Viewer:
     def _reset_clocks(self) -> None:
         self._last_frame = -math.inf
         self._last_overlay = -math.inf
+        self._last_label = -math.inf
         self._t0 = time.perf_counter()
         self._m0: int | None = None
 
@@ -134,7 +136,10 @@ class Viewer:
         self.frames += 1
         if self.overlay and (force_overlay or now - self._last_overlay >= self.overlay_period):
             self._last_overlay = now
-            scene.overlay(state.llm.predict(scene.targets))
+            scene.overlay(state.llm.predict(scene.targets, warn=False))
+        if force_overlay or now - self._last_label >= self.overlay_period:
+            self._last_label = now
+            scene.label(_status(state), "" if self.overlay else "the model's overlay is off (overlay=False)")
 
     def finish(self) -> None:
         """Draw the last state received and the learned model (the Fig. 3 overlay)."""
@@ -152,7 +157,7 @@ class Viewer:
         if self.scene is None:
             self.start(result.target, result.targets)
         scene = self._scene()
-        scene.show_model(result.inverse(scene.targets), few=few)
+        scene.show_model(result.model.predict(scene.targets, warn=False), few=few)
 
     def play(
         self,
@@ -192,6 +197,17 @@ class Viewer:
 
     def __repr__(self) -> str:
         return f"Viewer({self.url!r}, frames={self.frames}, dropped={self.dropped})"
+
+
+def _status(state: BabbleState) -> str:
+    """The legend's status line: movements run, and E^X and D^home at the last evaluation."""
+    from gb_pin.viewer.legend import status_line
+
+    done = np.flatnonzero(np.isfinite(state.errors))
+    if not done.size:
+        return status_line(state.movements, None, None)
+    i = int(done[-1])
+    return status_line(state.movements, state.errors[i], state.distances[i], int(state.schedule[i]))
 
 
 def open_viewer(port: int | None = None, **kwargs: Any) -> Viewer | None:

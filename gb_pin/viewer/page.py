@@ -21,8 +21,15 @@ CONTENT_SECURITY_POLICY = (
 )
 
 
-def html_page(messages: Iterable[bytes], title: str = "gb_pin") -> str:
-    """The page replaying ``messages`` (msgpack-encoded meshcat commands, in order) under ``title``."""
+def html_page(messages: Iterable[bytes], title: str = "gb_pin", overlay: str = "") -> str:
+    """The page replaying ``messages`` (msgpack-encoded meshcat commands, in order) under ``title``.
+
+    Args:
+        messages: the scene's commands.
+        title: the page's title (escaped).
+        overlay: HTML drawn over the view (the legend, :func:`gb_pin.viewer.legend.legend_html`:
+            gb_pin's own markup with escaped text; static, no script).
+    """
     with open(os.path.join(viewer_assets(), "main.min.js"), encoding="utf-8") as fh:
         script = fh.read().replace("</script", "<\\/script")
     commands = json.dumps([base64.b64encode(m).decode("ascii") for m in messages])
@@ -37,6 +44,7 @@ def html_page(messages: Iterable[bytes], title: str = "gb_pin") -> str:
 </head>
 <body>
 <div id="meshcat-pane"></div>
+{overlay}
 <script>
 {script}
 </script>

@@ -13,6 +13,7 @@ import numpy as np
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.viewer.legend import result_status
 from gb_pin.viewer.ranges import Movements, recorded_steps
 from gb_pin.viewer.style import OVERLAY
 
@@ -46,9 +47,15 @@ def replay_animation(
 
 def draw_replay(scene: Scene, result: BabbleResult, recording: RecordedSteps, speed: float) -> None:
     """Into a drawn ``scene``: the hidden overlay of ``result``'s model and the animation of ``recording``."""
-    scene.overlay(result.inverse(scene.targets))
+    scene.overlay(result.model.predict(scene.targets, warn=False))
     scene.hide(OVERLAY)
     scene.send_animation(replay_animation(scene, recording, result.config.path_length, speed))
+    first, last = int(recording.movement[0]), int(recording.movement[-1])
+    scene.label(
+        f"replaying movements {first}-{last} ({speed:g}/s); at the end: {result_status(result)}",
+        "The final model (blue, dark lines) is hidden in a replay, where it would contradict the early "
+        "movements: Open Controls > Scene > meshcat > gb_pin > overlay shows it.",
+    )
 
 
 def replay_window(

@@ -21,6 +21,7 @@ from gb_pin.viewer.animation import animation_command
 from gb_pin.viewer.commands import encode, property_message, transform_message
 from gb_pin.viewer.figure import make_figure
 from gb_pin.viewer.geometry import Transforms, spread_indices, translation
+from gb_pin.viewer.legend import Legend, legend_command, remove_control
 from gb_pin.viewer.markers import Markers, draw_target_set
 from gb_pin.viewer.overlay import draw_overlay
 from gb_pin.viewer.style import BACKGROUND_BOTTOM, BACKGROUND_TOP, CAMERA_FOV, ROOT
@@ -101,10 +102,30 @@ class Scene:
         for p in (ROOT, "/Grid", "/Axes"):
             w.send_encoded(*transform_message(p, shift))
         self._camera()
+        if self.planar_normal is None:
+            # meshcat's floor grid lies in the world's z = 0 plane, through a humanoid's pelvis (its
+            # root frame), not under its feet: seen from the side it crosses the scene. Hidden in 3-D.
+            w.send_encoded(*property_message("/Grid", "visible", False))
         self.figure.load(w)
         self.markers.load()
         draw_target_set(w, self.targets, self.embed(self.targets) + self._below(), self.figure.size)
         self.pose(self.target.home, None, None)
+        self.label()
+
+    def label(self, status: str = "", overlay_note: str = "") -> None:
+        """Draw the legend box over the view: robot, ``status`` (movement, E^X, D^home), colours.
+
+        Args:
+            status: the run's state, e.g. :func:`gb_pin.viewer.legend.status_line`.
+            overlay_note: a line about the learned model's overlay (shown, hidden, of which movement).
+        """
+        chain = self.target.chain
+        axes = "".join("xyz"[int(a)] for a in chain.task_axes)
+        details = f"{self.target.n_joints} joints, task axes {axes}"
+        meshes = type(self.figure).__name__ == "MeshFigure"
+        legend = Legend(self.target.name, details, status, overlay_note, meshes)
+        self.window.send(legend_command(legend))
+        self.window.send(remove_control())
 
     def _camera(self) -> None:
         """Place meshcat's default camera (properties set directly: pinocchio's helpers raise on 0.3.2)."""

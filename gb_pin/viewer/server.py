@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import logging
 import socket
 import threading
+import urllib.parse
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
 from typing import Any
@@ -35,6 +37,34 @@ LOOPBACK = "127.0.0.1"
 DEFAULT_PORT = 7000
 PORT_ATTEMPTS = 20
 VIEWER_ROOT = viewer_assets()
+_log = logging.getLogger("gb_pin.viewer")
+
+
+def sanitize(text: str, limit: int = 200) -> str:
+    r"""``text`` with every non-printable character escaped (``\x1b``), cut to ``limit`` characters.
+
+    Request lines are attacker-controlled: logged raw, ``%1b[...`` would write escape sequences
+    to the user's terminal.
+    """
+    clean = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in text[: 4 * limit])
+    return clean[:limit] + ("..." if len(clean) > limit else "")
+
+
+def _log_request(handler: tornado.web.RequestHandler) -> None:
+    """tornado's access log: one sanitised line, at debug level (nothing on the terminal by default)."""
+    request = handler.request
+    _log.debug("%d %s %s", handler.get_status(), sanitize(request.method or ""), sanitize(request.uri or ""))
+
+
+class _QuietErrors:
+    """Request handlers that log a failed request as one sanitised line, never a traceback."""
+
+    request: Any
+
+    def log_exception(self, typ: Any, value: Any, tb: Any) -> None:
+        if isinstance(value, tornado.web.HTTPError):
+            return
+        _log.warning("viewer: error %s answering %s", type(value).__name__, sanitize(self.request.uri or ""))
 
 
 def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
@@ -55,7 +85,7 @@ def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
     raise ViewerError(f"no free port for the viewer on {LOOPBACK}:{ports[0]}-{ports[-1]} ({errors[-1]})")
 
 
-class _StaticHandler(tornado.web.StaticFileHandler):
+class _StaticHandler(_QuietErrors, tornado.web.StaticFileHandler):
     def initialize(
         self,
         path: str,
@@ -70,12 +100,15 @@ class _StaticHandler(tornado.web.StaticFileHandler):
     async def prepare(self) -> None:
         if self.request.host not in self.server.allowed_hosts:
             raise tornado.web.HTTPError(403)
+        path = urllib.parse.unquote(self.request.path)
+        if not path.isprintable():  # NUL, escapes: no file of the viewer has such a name
+            raise tornado.web.HTTPError(404)
 
     def set_extra_headers(self, path: str) -> None:
         self.set_header("Cache-Control", "no-store")
 
 
-class _SocketHandler(tornado.websocket.WebSocketHandler):
+class _SocketHandler(_QuietErrors, tornado.websocket.WebSocketHandler):
     def initialize(self, server: LocalServer) -> None:
         self.server = server
 
@@ -161,7 +194,7 @@ class LocalServer:
                 ),
                 (r"/", _SocketHandler, {"server": self}),
             ],
-            log_function=lambda handler: None,  # no access log on the user's terminal
+            log_function=_log_request,  # sanitised, at debug level: nothing on the user's terminal
         )
         http = tornado.httpserver.HTTPServer(app)
         http.add_sockets(sockets)
