@@ -196,8 +196,10 @@ def test_tasks_carry_only_plain_values(monkeypatch) -> None:  # type: ignore[no-
     ts = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, scheduler="tcp://unused:8786")
     local = gb_pin.run_trials("planar20", trials=2, movements=5, seed=4, workers=1)
     np.testing.assert_array_equal(ts.error, local.error)
-    assert len(seen) == 2
-    for robot, movements, seed, schedule, kwargs in seen:
+    assert len(seen) == 1  # two short trials: one task (batched, docs/CLUSTERS.md)
+    ((batch,),) = seen
+    assert len(batch) == 2 and len(pickle.dumps(seen[0])) < 2 * 2000
+    for robot, movements, seed, schedule, kwargs in batch:
         assert isinstance(robot, str) and isinstance(movements, int) and isinstance(seed, int)
         assert isinstance(schedule, np.ndarray) and schedule.dtype == np.int64
         assert isinstance(kwargs, dict)

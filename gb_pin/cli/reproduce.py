@@ -34,7 +34,9 @@ def _add_options(p: argparse.ArgumentParser) -> None:
     add_trial_seed(p)
     add_workers(p, "local processes (default: all cores)")
     p.add_argument(
-        "--scheduler", default=None, help="run the trials on this Dask scheduler (tcp://host:8786)"
+        "--scheduler",
+        default=None,
+        help="run the trials on this Dask scheduler (tcp://host:8786) or SLURM (slurm:cores=4,memory=8GB)",
     )
     p.add_argument("--fresh", action="store_true", help="ignore the cached trials in OUT/trials")
     add_quiet(p)

@@ -32,7 +32,10 @@ def _add_options(t: argparse.ArgumentParser) -> None:
     t.add_argument(
         "--scheduler",
         default=None,
-        help="run the trials on this Dask scheduler, e.g. tcp://host:8786 (needs gb_pin[cluster])",
+        help=(
+            "run the trials on this Dask scheduler, e.g. tcp://host:8786 (needs gb_pin[cluster]), or on "
+            "SLURM, e.g. slurm:cores=4,memory=8GB,jobs=10 (needs gb_pin[slurm]; docs/CLUSTERS.md)"
+        ),
     )
     t.add_argument("--json", default=None, help="write movements, error, home_distance, initial_error")
     t.add_argument(

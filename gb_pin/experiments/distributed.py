@@ -16,6 +16,10 @@ A cluster, for example::
     dask worker tcp://head:8786 --nworkers 16 --nthreads 1   # on each worker node
     gb-pin trials --robot planar50 --movements 1000000 --scheduler tcp://head:8786
 
+On SLURM: ``--scheduler slurm:cores=4,memory=8GB,jobs=10`` (``pip install "gb_pin[slurm]"``),
+see :mod:`gb_pin.experiments.slurm` and docs/CLUSTERS.md. Short trials are sent several to a
+task (``gb_pin.experiments.execute``), so that Dask's per-task overhead stays small.
+
 Dask is imported only here, and only when a scheduler is given: local runs need no Dask.
 """
 
@@ -29,6 +33,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
+from gb_pin.experiments.slurm import is_slurm_spec, slurm_cluster
 
 CONNECT_TIMEOUT = 20.0  # [s] to reach a scheduler before giving up
 PROBE_TIMEOUT = 5.0  # [s] to open a TCP connection to a tcp:// scheduler, before Dask is asked
@@ -79,13 +84,23 @@ def client_for(scheduler: Any, timeout: float | None = None) -> Any:
 
     Args:
         scheduler: an address (``"tcp://host:8786"``), a ``Client`` (used as is, left
-            open), or a cluster object with a ``scheduler_address`` (e.g. ``LocalCluster``).
+            open), a cluster object with a ``scheduler_address`` (e.g. ``LocalCluster``,
+            ``dask_jobqueue.SLURMCluster``), or a SLURM spec ``"slurm:cores=4,memory=8GB,jobs=10"``
+            (:mod:`gb_pin.experiments.slurm`: a SLURMCluster started here and closed on exit).
         timeout: seconds to wait for the scheduler [s]; default :data:`CONNECT_TIMEOUT`.
 
     Raises:
         GbPinError: Dask is not installed, or the scheduler cannot be reached.
         InvalidArgumentError: ``scheduler`` is none of the above.
     """
+    if is_slurm_spec(scheduler):  # a SLURMCluster built for this run, closed with it
+        cluster = slurm_cluster(scheduler)
+        try:
+            with client_for(cluster, timeout) as client:
+                yield client
+        finally:
+            cluster.close()
+        return
     if isinstance(scheduler, str):  # checked (and, for tcp, reached) before Dask is imported
         scheme, host, port = check_address(scheduler)
         if scheme == "tcp" and port is not None:

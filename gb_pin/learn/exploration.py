@@ -22,15 +22,19 @@ from numpy.typing import NDArray
 from gb_pin import _validation as check
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def noise_init(rng, sigma, A, b):  # type: ignore[no-untyped-def]
-    """Draw A_0 and b_0 with i.i.d. N(0, sigma^2) entries (Eq. 8)."""
+def noise_init(
+    rng: np.random.Generator, sigma: float, A: NDArray[np.float64], b: NDArray[np.float64]
+) -> None:
+    """Draw A_0 and b_0 with i.i.d. N(0, sigma^2) entries (Eq. 8), A row by row, then b.
+
+    Plain numpy (called once per run, so not compiled): the same draws, in the same order, as
+    numba's ``rng.standard_normal()`` one at a time, and the same product ``sigma * z``
+    (tests/test_exploration.py).
+    """
     m, n = A.shape
-    for i in range(m):
-        for j in range(n):
-            A[i, j] = sigma * rng.standard_normal()
-    for i in range(m):
-        b[i] = sigma * rng.standard_normal()
+    z = rng.standard_normal(m * n + m)
+    A[:, :] = sigma * z[: m * n].reshape(m, n)
+    b[:] = sigma * z[m * n :]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

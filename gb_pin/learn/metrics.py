@@ -21,7 +21,7 @@ from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.llm_kernels import llm_predict
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyped-def]
     """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10).
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from numba import njit
 
 from gb_pin.learn.goals.base import CYCLIC, UNIFORM
+from gb_pin.learn.goals.draw import uniform_index
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -16,7 +17,7 @@ def next_goal(goals, rng, out):  # type: ignore[no-untyped-def]
     """
     targets = goals.targets
     if goals.kind == UNIFORM:
-        k = rng.integers(0, targets.shape[0])
+        k = uniform_index(rng, targets.shape[0])  # = rng.integers(0, N), draw for draw
     elif goals.kind == CYCLIC:
         k = goals.istate[0]
         goals.istate[0] = (k + 1) % targets.shape[0]
