@@ -18,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
-from gb_pin.learn.session_kernels import MOVEMENT_DONE, ask_step, evaluate_due, kernel_movement, tell_step
+from gb_pin.learn.layout import MOVEMENT_DONE
+from gb_pin.learn.session_kernels import ask_step, evaluate_due, kernel_movement, tell_step
 from gb_pin.learn.state import BabbleState
 
 Forward = Callable[[NDArray[np.float64]], ArrayLike]

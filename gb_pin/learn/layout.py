@@ -38,6 +38,8 @@ NEED_CAPACITY = 1
 NOT_FINITE = 2
 NEED_RECORD_CAPACITY = 3
 NEED_GOAL = 4  # a goal generator written in Python must write the next path end
+MOVEMENT_DONE = 5  # an ask/tell step completed the movement (gb_pin.learn.session_kernels)
+STEP_DONE = 6  # an ask/tell step ended, the movement goes on
 
 MAX_POSTURE = 1e6  # a posture beyond this (rad or m) means the estimate has exploded
 

@@ -60,10 +60,10 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
     counters = run.counters
     while True:
         if counters[KIND] == NONE:
-            _evaluate_due(learner, robot, run, monitor.evaluation)
+            evaluate_schedule(learner, robot, run, monitor.evaluation)
             if counters[MOVEMENTS] >= stop:
                 return DONE
-            if not _begin_movement(rng, learner.hyper.p_home, run, goals):
+            if not begin_movement(rng, learner.hyper.p_home, run, goals):
                 return NEED_GOAL
         status = _movement(rng, learner, robot, run, monitor.recorder)
         if status != DONE:
@@ -71,7 +71,7 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
+def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
     """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10)."""
     counters = run.counters
     r = counters[MOVEMENTS]
@@ -90,7 +90,7 @@ def _evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-d
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
+def begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
     """Choose the next movement: a home return (Eq. 7) or a goal-directed path (Eq. 3).
 
     After a goal-directed movement the arm returns home with probability p_home; the first
@@ -164,7 +164,7 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
             return NOT_FINITE
         body_forward(q, body, x)  # Eq. 1
         if recording:
-            _record(counters, rec, q, x, target, kind)
+            record_step(counters, rec, q, x, target, kind)
         w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
         if kind == GOAL:
             w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6
@@ -191,7 +191,7 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _record(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-def]
+def record_step(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-def]
     """Write this step to the recording buffers (target NaN during home returns)."""
     c = counters[RECORDED]
     rec.step[c] = counters[STEPS] + 1

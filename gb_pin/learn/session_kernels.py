@@ -23,6 +23,7 @@ from gb_pin.learn.layout import (
     KIND,
     LAST_KIND,
     MAX_POSTURE,
+    MOVEMENT_DONE,
     MOVEMENTS,
     NEED_CAPACITY,
     NEED_GOAL,
@@ -32,20 +33,18 @@ from gb_pin.learn.layout import (
     PROTOTYPES,
     RECORDED,
     STEP,
+    STEP_DONE,
     STEPS,
 )
 from gb_pin.learn.llm_kernels import llm_learn, llm_predict
-from gb_pin.learn.loop import _begin_movement, _evaluate_due, _record
+from gb_pin.learn.loop import begin_movement, evaluate_schedule, record_step
 from gb_pin.learn.weighting import direction_weight, efficiency_weight
-
-MOVEMENT_DONE = 5  # tell_step: the step completed the movement
-STEP_DONE = 6  # tell_step: the movement goes on
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
     """E^X and D^home at the schedule entries due at the current movement count (compiled body)."""
-    _evaluate_due(learner, robot, run, evaluation)
+    evaluate_schedule(learner, robot, run, evaluation)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -68,7 +67,7 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
         again: nothing of the step has happened) or NOT_FINITE.
     """
     counters = run.counters
-    if counters[KIND] == NONE and not _begin_movement(rng, learner.hyper.p_home, run, goals):
+    if counters[KIND] == NONE and not begin_movement(rng, learner.hyper.p_home, run, goals):
         return NEED_GOAL
     mo = run.motion
     q, target = mo.q, mo.target
@@ -121,7 +120,7 @@ def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
     step = counters[STEP] + 1
     recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
     if recording:
-        _record(counters, rec, q, x, target, kind)
+        record_step(counters, rec, q, x, target, kind)
     w = efficiency_weight(x, x_prev, q, q_prev)
     if kind == GOAL:
         w *= direction_weight(target, target_prev, x, x_prev)
