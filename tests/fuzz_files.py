@@ -1,6 +1,7 @@
 """Fuzzing of every file reader over mutated real files (run by tests/test_fuzz_files.py, or alone).
 
-Readers: result files (``load_result``, then ``inverse``), checkpoints (``resume`` to the end when
+Readers: result files (``load_result``, then ``inverse``; also of a URDF robot, whose recorded robot
+source is rebuilt), checkpoints (``resume`` to the end when
 the run is short, else ``read_checkpoint`` and 100 movements of the compiled loop on the state read),
 trial journals (``run_trials(checkpoint=)``), trial sets (``TrialSet.load``) and robot presets
 (``robots/*.toml``). Mutations: truncation, byte flips, zeroed runs, appended garbage, forged zip
@@ -65,7 +66,11 @@ def _originals(tmp: Path) -> dict[str, bytes]:
     )
     ts.save(tmp / "trials.json")
     preset = Path(str(resources.files("gb_pin.presets"))) / "talos_left_arm.toml"
+    urdf = Path(__file__).resolve().parent / "data" / "small_arm.urdf"
+    arm = gb_pin.KinematicTarget.from_urdf(urdf, "tool", ["j1", "j2", "j4"], home=[0.1, 0.2, 0.3])
+    gb_pin.babble(arm, movements=10, seed=4).save(tmp / "result_urdf.npz")
     return {
+        "result_urdf": (tmp / "result_urdf.npz").read_bytes(),
         "result": (tmp / "result.npz").read_bytes(),
         "checkpoint": (tmp / "ckpt.npz").read_bytes(),
         "journal": (tmp / "journal.jsonl").read_bytes(),
@@ -150,6 +155,30 @@ def _archive_mutation(data: bytes, rng: np.random.Generator) -> bytes:
     return out.getvalue()
 
 
+SOURCE_TRICKS: list[Any] = [
+    "relative/arm.urdf", "/etc/passwd", "/dev/zero", "/no/such/arm.urdf", "erd:romeo", "os:system", "module",
+    "urdf", "erd", "0" * 64, "x" * 100_000, ["j1"] * 3, ["j1", "j2"], [0.1, "a", 0.3], "xx", "xyzx",
+]  # fmt: skip
+
+
+def _source_mutation(data: bytes, rng: np.random.Generator) -> bytes:
+    """Rewrite a result file's ``robot_source`` with one entry wrong, added, or the whole kind changed."""
+    with np.load(io.BytesIO(data), allow_pickle=False) as f:
+        arrays = {k: f[k] for k in f.files}
+    meta = json.loads(str(arrays["meta"]))
+    source = dict(meta["robot_source"])
+    values = SOURCE_TRICKS + WEIRD
+    key = str(rng.choice([*sorted(source), "extra"]))
+    source[key] = values[int(rng.integers(0, len(values)))]
+    if rng.random() < 0.2:
+        source = {"kind": "module", "spec": str(rng.choice(["os:system", "builtins:print", "x.py:robot"]))}
+    meta["robot_source"] = source
+    arrays["meta"] = np.array(json.dumps(meta))
+    out = io.BytesIO()
+    np.savez(out, **arrays)
+    return out.getvalue()
+
+
 def _text_mutation(data: bytes, rng: np.random.Generator) -> bytes:
     text = data.decode("utf-8", errors="replace")
     how = rng.integers(0, 3)
@@ -207,6 +236,8 @@ READERS: dict[
     "journal": ("x.jsonl", _read_journal, [_text_mutation]),
     "trials": ("x.json", _read_trials, [_text_mutation]),
     "preset": ("x.toml", _read_preset_file, [_text_mutation]),
+    # a URDF robot's result: its robot source is rebuilt, so it is mutated too
+    "result_urdf": ("x.npz", _read_result, [_source_mutation, _source_mutation, _archive_mutation]),
 }
 
 

@@ -11,6 +11,7 @@ import sys
 import time
 from typing import TYPE_CHECKING, Any
 
+from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import add_learner_options, add_model_options, add_quiet, learner_values, model_robot
 from gb_pin.exceptions import InvalidArgumentError
 
@@ -42,6 +43,7 @@ def _add_options(b: argparse.ArgumentParser) -> None:
     )
     b.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
     add_learner_options(b)
+    add_goal_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     _add_checkpoint_options(b)
     _add_record_options(b)
@@ -92,9 +94,17 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.runs.api import warmup
 
     checks.babble(args)  # combinations, ranges and output paths, before any work
+    goal_args = goal_values(args)  # generator and point files read and checked before any work too
+    if args.resume and goal_args:
+        raise InvalidArgumentError(
+            f"--resume continues the checkpoint's goals and sets; drop {', '.join(sorted(goal_args))}"
+        )
     done, steps_before, wall_before = _read_resume(args)
-    robot: Any = model_robot(args)  # a URDF or example-robot-data model, or None
-    if robot is None and ":" in args.robot:  # MODULE:NAME, loaded here: a bad one fails before compiling
+    # --resume runs the checkpoint's robot: resume() loads its preset or rebuilds the model it records.
+    robot: Any = None if args.resume else model_robot(args)  # a URDF or example-robot-data model, or None
+    if args.resume:
+        robot = None
+    elif robot is None and ":" in args.robot:  # MODULE:NAME, loaded here: a bad one fails before compiling
         from gb_pin.robot.spec import load_robot_spec
 
         robot = load_robot_spec(args.robot)
@@ -107,13 +117,18 @@ def run(args: argparse.Namespace) -> int:
     progress = _Progress(args.robot, args.movements, done, disable=args.quiet)
     start = time.perf_counter()
     try:
-        result = _run(args, robot, progress, record, viewer)
+        result = _run(args, robot, progress, record, viewer, goal_args)
     finally:
         progress.close()
         if viewer is not None:
             viewer.finish()  # the last state and the learned model; browsers keep showing them
             viewer.close()
     _print_summary(args, result, time.perf_counter() - start, compile_time, (steps_before, wall_before))
+    state = result.state
+    if args.goals is not None and state is not None:
+        print(f"goals            {state.goals!r}")
+    if getattr(args, "until_error", None) is not None and state is not None and state.reached:
+        print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:
         from gb_pin._files import write_or_fallback
 
@@ -131,16 +146,22 @@ def _read_resume(args: argparse.Namespace) -> tuple[int, int, float]:
     from gb_pin.runs.checkpoint import read_checkpoint
 
     state, info = read_checkpoint(args.resume)
-    if info.robot is None:
+    if info.robot is None and (info.source is None or info.source["kind"] == "module"):
         raise InvalidArgumentError(
             f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume)"
         )
-    args.robot, args.movements, args.seed = info.robot, info.movements, info.seed
+    args.robot = info.robot or info.target_name  # a URDF / erd model's run: its name, for the summary
+    args.movements, args.seed = info.movements, info.seed
     return int(state.movements), int(state.steps), float(info.wall_time)
 
 
 def _run(
-    args: argparse.Namespace, robot: Any, progress: _Progress, record: Recording | None, viewer: Viewer | None
+    args: argparse.Namespace,
+    robot: Any,
+    progress: _Progress,
+    record: Recording | None,
+    viewer: Viewer | None,
+    goal_args: dict[str, Any],
 ) -> BabbleResult:
     """The run itself: ``resume(...)`` of the checkpoint or a fresh ``babble(...)``."""
     from gb_pin.runs.api import babble, resume
@@ -163,6 +184,7 @@ def _run(
         record=record,
         **common,
         **learner_values(args),
+        **goal_args,
     )
 
 
@@ -170,13 +192,17 @@ class _Progress:
     """The progress callback: a tqdm bar, created on the first report so that errors come without a bar."""
 
     def __init__(self, robot: str, total: int, done: int, *, disable: bool) -> None:
-        from tqdm import tqdm  # imported here, before the run is timed
+        self._tqdm: Any = None
+        if not disable:  # --quiet: tqdm (and the multiprocessing lock it makes) is never imported
+            from tqdm import tqdm  # imported here, before the run is timed
 
-        self._tqdm = tqdm
+            self._tqdm = tqdm
         self._robot, self._total, self._done, self._disable = robot, total, done, disable
         self._bar: Any = None
 
     def __call__(self, r: int) -> None:
+        if self._tqdm is None:
+            return
         if self._bar is None:
             self._bar = self._tqdm(
                 total=self._total,
@@ -211,6 +237,12 @@ def _print_summary(
     print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {axes})")
     print(f"movements        {result.movements} ({result.steps} steps), seed {args.seed}")
     print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
+    if getattr(getattr(result.target, "chain", None), "components", None) is not None:  # docs/TASKS.md
+        from gb_pin.learn.component_metrics import task_errors
+
+        errors = task_errors(result.model, result.target, result.targets)
+        for line in errors.summary(getattr(result.target, "component_labels", None)).splitlines():
+            print(f"  {line}")
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
     steps_before, wall_before = before

@@ -97,12 +97,16 @@ def add_html(parser: argparse.ArgumentParser) -> None:
 def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
     """--frame, --joints, --home, --axes (and --robot if ``robot``): a URDF or example-robot-data model.
 
-    ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``: the model a result of such a robot
-    was learned on, which its file does not record).
+    ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``: the robot a result was learned
+    on, when its file cannot rebuild it: a robot built in Python, loaded by MODULE:NAME, or a model
+    moved or edited since; see :func:`result_robot`).
     """
     if robot:
         b.add_argument(
-            "--robot", default=None, help="a result of a URDF or erd:NAME model: that model (with --frame)"
+            "--robot",
+            default=None,
+            help="the run's robot, if the file cannot rebuild it (default: the one the file records): "
+            "a URDF or erd:NAME model (with --frame), MODULE:NAME or a preset",
         )
     b.add_argument("--frame", default=None, help="with --robot FILE.urdf or erd:NAME: the effector frame")
     b.add_argument(
@@ -149,3 +153,25 @@ def model_robot(args: argparse.Namespace) -> Any:
             spec[4:], args.frame, joints, home=home, axes=args.axes
         )
     return KinematicTarget.from_urdf(spec, args.frame, joints, home=home, axes=args.axes)
+
+
+def result_robot(args: argparse.Namespace) -> Any:
+    """The robot ``--robot`` (and the model options) name for a result file, or None: the file's own.
+
+    ``show``, ``replay`` and ``plot`` rebuild the robot the file records (a preset, a URDF or an
+    example-robot-data model); ``--robot`` overrides it, e.g. ``MODULE:NAME``, which a file alone
+    never imports (importing runs the module's code).
+
+    Raises:
+        InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
+    """
+    robot = model_robot(args)
+    if robot is not None or args.robot is None:
+        return robot
+    from gb_pin.robot.spec import is_robot_spec, load_robot_spec
+
+    if is_robot_spec(args.robot):
+        return load_robot_spec(args.robot)
+    from gb_pin.robot.presets import load_robot
+
+    return load_robot(args.robot)

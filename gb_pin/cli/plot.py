@@ -6,7 +6,7 @@ import argparse
 import os
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_model_options, model_robot
+from gb_pin.cli.options import add_model_options, result_robot
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -50,6 +50,6 @@ def run(args: argparse.Namespace) -> int:
     else:
         from gb_pin.runs.result import BabbleResult
 
-        BabbleResult.load(args.file, target=model_robot(args)).plot(out)
+        BabbleResult.load(args.file, target=result_robot(args)).plot(out)
     print(f"wrote {out}")
     return 0

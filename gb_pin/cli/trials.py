@@ -7,6 +7,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import add_learner_options, add_quiet, add_trial_seed, add_workers, learner_values
 
 if TYPE_CHECKING:
@@ -29,6 +30,7 @@ def _add_options(t: argparse.ArgumentParser) -> None:
     add_trial_seed(t)
     add_workers(t)
     add_learner_options(t)
+    add_goal_options(t, until=False)
     t.add_argument(
         "--scheduler",
         default=None,
@@ -67,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         checkpoint=args.checkpoint,
         **learner_values(args, given_only=True),
+        **goal_values(args, as_lists=True),
     )
     _print_summary(args, result, time.perf_counter() - start)
     if args.json is not None:

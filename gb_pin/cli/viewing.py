@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_html, add_model_options, add_port, model_robot
+from gb_pin.cli.options import add_html, add_model_options, add_port, result_robot
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -55,7 +55,7 @@ def replay(args: argparse.Namespace) -> int:
 
     checks.finite("--speed", args.speed, strict=True)
     checks.outputs(args, html="--html")
-    result = load_result(args.file, target=model_robot(args))  # --robot: a URDF / erd: model's result
+    result = load_result(args.file, target=result_robot(args))  # None: the robot the file records
     movements = parse_range(args.movements) if args.movements else None
     if args.html:
         export_replay(result, args.html, movements, args.speed)
@@ -74,7 +74,7 @@ def show(args: argparse.Namespace) -> int:
 
     check.positive_int("--postures", args.postures, minimum=0)
     checks.outputs(args, html="--html")
-    result = load_result(args.file, target=model_robot(args))  # --robot: a URDF / erd: model's result
+    result = load_result(args.file, target=result_robot(args))  # None: the robot the file records
     if args.html:
         export_model(result, args.html, few=args.postures)
         _wrote(args.html)

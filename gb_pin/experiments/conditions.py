@@ -1,12 +1,15 @@
 """Experimental conditions (a robot and babble parameters), grids of them, and a sweep's results.
 
 The babble parameters a condition may set are the learner's hyperparameters, named once
-in :data:`gb_pin.learn.config.NAMES`; :data:`BABBLE_ARGS` is that tuple.
+in :data:`gb_pin.learn.config.NAMES` (:data:`BABBLE_ARGS` is that tuple), and the goals
+(:data:`GOAL_ARGS`: a goal generator by name, e.g. ``"progress"`` or ``"uniform:snap=0.05"``,
+a goal set and a separate test set as nested lists), all plain JSON values.
 """
 
 from __future__ import annotations
 
 import itertools
+import json
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -21,6 +24,8 @@ from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.config import NAMES, check_values
 
 BABBLE_ARGS: tuple[str, ...] = NAMES  # the babble arguments of a trial: the hyperparameter table's names
+GOAL_ARGS: tuple[str, ...] = ("goals", "targets", "eval_targets")  # where goals and E^X come from
+TRIAL_ARGS: tuple[str, ...] = (*BABBLE_ARGS, *GOAL_ARGS)
 SWEEP_FORMAT = "gb_pin.sweep"
 
 
@@ -33,7 +38,36 @@ def check_parameters(parameters: Mapping[str, Any], what: str = "babble argument
     Raises:
         InvalidArgumentError: an unknown name or a bad value (the message names it).
     """
-    check_values(parameters, what=what)
+    unknown = sorted(set(parameters) - set(TRIAL_ARGS))
+    if unknown:
+        raise InvalidArgumentError(f"unknown {what} {unknown}; valid: {', '.join(TRIAL_ARGS)}")
+    check_values({k: v for k, v in parameters.items() if k in BABBLE_ARGS}, what=what)
+    goals = parameters.get("goals")
+    if goals is not None:
+        if not isinstance(goals, str):
+            raise InvalidArgumentError(
+                f"goals of a trial must be a goal generator's name (with parameters, e.g. "
+                f"'uniform:snap=0.05'), got {goals!r}"
+            )
+        from gb_pin.learn.goals import make_goals
+
+        make_goals(goals)
+    for key in ("targets", "eval_targets"):
+        value = parameters.get(key)
+        if value is not None:
+            arr = np.asarray(value, dtype=object)
+            try:
+                ok = (
+                    arr.ndim == 2
+                    and 0 < arr.shape[0] <= 10**6
+                    and bool(np.all(np.isfinite(arr.astype(float))))
+                )
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InvalidArgumentError(
+                    f"{key} of a trial must be a finite (N, n) list of points, got {value!r:.80}"
+                )
 
 
 @dataclass(frozen=True)
@@ -55,12 +89,13 @@ class Condition:
     schedule: tuple[int, ...] | None = None
 
     def __hash__(self) -> int:
-        return hash((self.robot, tuple(sorted(self.parameters.items())), self.movements, self.schedule))
+        items = tuple(sorted((k, json.dumps(plain(v))) for k, v in self.parameters.items()))
+        return hash((self.robot, items, self.movements, self.schedule))
 
     @property
     def label(self) -> str:
-        """A short readable name, e.g. ``planar5 learning_rate=0.1``."""
-        parts = [self.robot, *(f"{k}={v:g}" for k, v in sorted(self.parameters.items()))]
+        """A short readable name, e.g. ``planar5 learning_rate=0.1`` or ``planar5 goals=progress``."""
+        parts = [self.robot, *(_label(k, v) for k, v in sorted(self.parameters.items()))]
         return " ".join(parts)
 
     def to_json(self) -> dict[str, Any]:
@@ -85,16 +120,28 @@ class Condition:
         )
 
 
+def _label(key: str, value: Any) -> str:
+    if key in ("targets", "eval_targets") and value is not None:
+        return f"{key}=<{len(value)} points>"
+    return (
+        f"{key}={value:g}"
+        if isinstance(value, int | float) and not isinstance(value, bool)
+        else f"{key}={value}"
+    )
+
+
 def conditions_grid(robot: str | Sequence[str] = "planar5", **parameters: Any) -> list[Condition]:
     """The Cartesian product of a robot (or robots) and babble arguments given as values or lists.
 
     >>> [c.label for c in conditions_grid("planar5", learning_rate=[0.01, 0.1])]
     ['planar5 learning_rate=0.01', 'planar5 learning_rate=0.1']
     """
-    unknown = sorted(set(parameters) - set(BABBLE_ARGS))
+    gridded = (*BABBLE_ARGS, "goals")
+    unknown = sorted(set(parameters) - set(gridded))
     if unknown:
         raise InvalidArgumentError(
-            f"unknown sweep arguments {unknown}; valid: robot, {', '.join(BABBLE_ARGS)}"
+            f"unknown sweep arguments {unknown}; valid: robot, {', '.join(gridded)} "
+            "(goal and test sets: Condition(parameters=...))"
         )
 
     def values(name: str, v: Any) -> list[Any]:

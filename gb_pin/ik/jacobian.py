@@ -16,10 +16,10 @@ differences and ``pinocchio.computeFrameJacobian`` (LOCAL_WORLD_ALIGNED) in test
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.body.joints import REVOLUTE, joints_forward

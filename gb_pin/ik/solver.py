@@ -25,9 +25,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from gb_pin._jit import njit
 from gb_pin.ik.jacobian import body_jacobian
 from gb_pin.learn.body.chain import Body
 

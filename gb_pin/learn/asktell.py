@@ -74,9 +74,10 @@ class AskTell:
             st._apply_changes()
             if st.chain is not chain:
                 self._build()
-            if st.movements >= self.stop:
+            if st.movements >= self.stop or st.reached:
                 raise InvalidArgumentError(
-                    f"the run is complete ({self.stop} movements); nothing more to ask"
+                    f"the run is complete ({st.movements} movements"
+                    f"{', E^X reached until_error' if st.reached else ''}); nothing more to ask"
                 )
         while True:
             status = ask_step(st.rng, self._learner, self._limits, self._run, self._goals, self._rec)
@@ -103,6 +104,8 @@ class AskTell:
         while st.movements < until:
             if st.istate[layout.KIND] == layout.NONE:
                 self.evaluate()
+                if st.reached:
+                    return
             while True:
                 status = kernel_movement(
                     st.rng, self._learner, self._limits, self._run, self._goals, self._rec, kernel
@@ -163,14 +166,17 @@ class AskTell:
             return
         if st.chain is not None:
             evaluate_due(self._learner, self._robot, self._run, self._monitor.evaluation)
-            return
-        r = st.movements
-        c = int(st.istate[layout.EVAL_CURSOR])
-        while c < st.schedule.shape[0] and st.schedule[c] <= r:
-            if st.schedule[c] == r and self.forward is not None:
-                st.errors[c], st.distances[c] = self._evaluate_python()
-            c += 1
-        st.istate[layout.EVAL_CURSOR] = c
+        else:
+            r = st.movements
+            c = int(st.istate[layout.EVAL_CURSOR])
+            while c < st.schedule.shape[0] and st.schedule[c] <= r:
+                if st.schedule[c] == r and self.forward is not None:
+                    st.errors[c], st.distances[c] = self._evaluate_python()
+                c += 1
+            st.istate[layout.EVAL_CURSOR] = c
+        if st.reached and st.schedule.shape[0] > st.istate[layout.EVAL_CURSOR]:
+            st._end_at_cursor()  # until_error reached: the run ends here
+            self._build()
 
     def _evaluate_python(self) -> tuple[float, float]:
         """(E^X, D^home) with the Python forward model (Eqs. 9, 10)."""

@@ -16,10 +16,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
 from gb_pin import _validation as check
+from gb_pin._jit import njit
 
 
 def noise_init(

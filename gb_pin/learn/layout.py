@@ -31,6 +31,7 @@ ISTATE_SIZE = 8
 NONE = -1
 GOAL = 0
 HOME = 1
+BABBLE = 2  # motor babbling: a joint-space movement to a random posture (gb_pin.learn.goals.motor)
 
 # Status codes returned by babble_loop.
 DONE = 0
@@ -40,6 +41,7 @@ NEED_RECORD_CAPACITY = 3
 NEED_GOAL = 4  # a goal generator written in Python must write the next path end
 MOVEMENT_DONE = 5  # an ask/tell step completed the movement (gb_pin.learn.session_kernels)
 STEP_DONE = 6  # an ask/tell step ended, the movement goes on
+REACHED = 7  # E^X reached the run's stopping level (until_error): the run is over
 
 MAX_POSTURE = 1e6  # a posture beyond this (rad or m) means the estimate has exploded
 
@@ -91,7 +93,8 @@ class Motion(NamedTuple):
 
     Attributes:
         q_prev: (m,) the last executed posture.
-        q_start: (m,) start of the current home return.
+        q_start: (m,) start of the current joint-space movement (home return, motor babbling).
+        q_end: (m,) end of the current joint-space movement (q_home, or a random posture).
         x_prev: (n,) the last reached position.
         target_prev: (n,) the last goal-directed target.
         path_start: (n,) start of the current target path (Eq. 3).
@@ -103,6 +106,7 @@ class Motion(NamedTuple):
 
     q_prev: NDArray[np.float64]
     q_start: NDArray[np.float64]
+    q_end: NDArray[np.float64]
     x_prev: NDArray[np.float64]
     target_prev: NDArray[np.float64]
     path_start: NDArray[np.float64]
@@ -120,12 +124,16 @@ class Run(NamedTuple):
 
 
 class Evaluation(NamedTuple):
-    """When and where E^X and D^home are measured, and the output arrays (one entry per count)."""
+    """When and where E^X and D^home are measured, and the output arrays (one entry per count).
+
+    ``until``: the run stops (REACHED) at the first evaluation with E^X <= until (-inf: never).
+    """
 
     at: NDArray[np.int64]
     targets: NDArray[np.float64]
     errors: NDArray[np.float64]
     distances: NDArray[np.float64]
+    until: float
 
 
 class Recorder(NamedTuple):

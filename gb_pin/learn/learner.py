@@ -175,7 +175,7 @@ class GoalBabbling:
         every = 0
         if checkpoint is not None:
             every = check.positive_int("checkpoint_every", checkpoint_every or max(1, total // 10))
-        while state.movements < until:
+        while state.movements < until and not state.reached:
             stop = min(until, state.movements + chunk)
             if every:  # never step over a checkpoint
                 stop = min(stop, (state.movements // every + 1) * every)

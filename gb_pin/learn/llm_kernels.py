@@ -22,8 +22,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from gb_pin._jit import njit
 
 
 class MapArrays(NamedTuple):

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from gb_pin._jit import njit
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.exploration import noise_add, noise_walk
-from gb_pin.learn.goals.kernel import next_goal
+from gb_pin.learn.goals.kernel import goal_feedback, is_motor, motor_posture, next_goal, snap_start
 from gb_pin.learn.layout import (
+    BABBLE,
     DONE,
     EVAL_CURSOR,
     GOAL,
@@ -30,6 +30,7 @@ from gb_pin.learn.layout import (
     NONE,
     NOT_FINITE,
     PROTOTYPES,
+    REACHED,
     RECORDED,
     STEP,
     STEPS,
@@ -55,15 +56,17 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
     Returns:
         DONE; NEED_CAPACITY (grow the map and call again); NEED_RECORD_CAPACITY (grow the
         recording buffers and call again); NEED_GOAL (write the goal into
-        ``run.motion.path_end`` and call again); or NOT_FINITE.
+        ``run.motion.path_end`` and call again); REACHED (E^X fell to ``evaluation.until``:
+        the run is over); or NOT_FINITE.
     """
     counters = run.counters
     while True:
         if counters[KIND] == NONE:
-            evaluate_schedule(learner, robot, run, monitor.evaluation)
+            if evaluate_schedule(learner, robot, run, monitor.evaluation):
+                return REACHED
             if counters[MOVEMENTS] >= stop:
                 return DONE
-            if not begin_movement(rng, learner.hyper.p_home, run, goals):
+            if not begin_movement(rng, learner.hyper.p_home, robot.limits, run, goals):
                 return NEED_GOAL
         status = _movement(rng, learner, robot, run, monitor.recorder)
         if status != DONE:
@@ -72,8 +75,12 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
-    """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10)."""
+    """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10).
+
+    Returns True when one of them found E^X <= ``evaluation.until`` (the stopping level).
+    """
     counters = run.counters
+    reached = False
     r = counters[MOVEMENTS]
     c = counters[EVAL_CURSOR]
     at = evaluation.at
@@ -85,30 +92,50 @@ def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyp
             )  # fmt: skip
             evaluation.errors[c] = e
             evaluation.distances[c] = d
+            reached = reached or e <= evaluation.until
         c += 1
     counters[EVAL_CURSOR] = c
+    return reached
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def begin_movement(rng, p_home, run, goals):  # type: ignore[no-untyped-def]
-    """Choose the next movement: a home return (Eq. 7) or a goal-directed path (Eq. 3).
+def begin_movement(rng, p_home, limits, run, goals):  # type: ignore[no-untyped-def]
+    """Choose the next movement: a home return (Eq. 7), a goal-directed path (Eq. 3) or motor babbling.
 
-    After a goal-directed movement the arm returns home with probability p_home; the first
-    movement and the one after a home return are goal-directed (Sec. II-A). Returns False
+    After a goal-directed movement the goal generator learns how far the arm missed its goal,
+    and the arm returns home with probability p_home; the first movement and the one after a
+    home return are goal-directed (Sec. II-A). A goal path starts at the last goal, or where
+    the arm got to if it missed by more than the generator's snap threshold. Returns False
     when a Python goal generator must write the goal into ``path_end``.
     """
     counters = run.counters
     mo = run.motion
     counters[STEP] = 0
-    if counters[LAST_KIND] == GOAL and rng.random() < p_home:
+    after_goal = counters[LAST_KIND] == GOAL
+    if after_goal:
+        goal_feedback(goals, mo.path_end, mo.x_prev)
+    if after_goal and rng.random() < p_home:
         counters[KIND] = HOME
         for i in range(mo.q_start.shape[0]):
             mo.q_start[i] = mo.q_prev[i]
+            mo.q_end[i] = limits.home[i]
+        return True
+    if is_motor(goals):
+        counters[KIND] = BABBLE
+        for i in range(mo.q_start.shape[0]):
+            mo.q_start[i] = mo.q_prev[i]
+        motor_posture(goals, rng, limits, mo.q_end)
         return True
     counters[KIND] = GOAL
-    for j in range(mo.path_start.shape[0]):
-        mo.path_start[j] = mo.path_end[j]
-    return next_goal(goals, rng, mo.path_end)
+    if after_goal and snap_start(goals, mo.path_end, mo.x_prev):
+        # The arm lags its last goal: the new path starts where it got to. (Eq. 4's x*_{t-1} stays
+        # the last target: resetting it too measured worse, docs/GOALS.md.)
+        for j in range(mo.path_start.shape[0]):
+            mo.path_start[j] = mo.x_prev[j]
+    else:
+        for j in range(mo.path_start.shape[0]):
+            mo.path_start[j] = mo.path_end[j]
+    return next_goal(goals, rng, mo.path_start, mo.path_end)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -122,12 +149,13 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
     counters = run.counters
     mo = run.motion
     q, x, target = mo.q, mo.x, mo.target
-    q_prev, q_start, x_prev, target_prev = mo.q_prev, mo.q_start, mo.x_prev, mo.target_prev
+    q_prev, q_start, q_end = mo.q_prev, mo.q_start, mo.q_end
+    x_prev, target_prev = mo.x_prev, mo.target_prev
     path_start, path_end = mo.path_start, mo.path_end
     hyper = learner.hyper
     lm, scratch = learner.lm, learner.scratch
     A, b = learner.noise.A, learner.noise.b
-    home, lower, upper = robot.limits
+    lower, upper = robot.limits.lower, robot.limits.upper
     body = robot.body
     eta, sigma, sigma_delta = hyper.learning_rate, hyper.sigma, hyper.sigma_delta
     capacity = lm.prototypes.shape[0]
@@ -151,9 +179,10 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
             llm_predict(target, lm, counters[PROTOTYPES], q)
             noise_add(A, b, target, q)
         else:
-            # Eq. 7: linear path in joint space from the last posture to home.
+            # Eq. 7: linear path in joint space from the last posture to home (or, motor
+            # babbling, to a random posture).
             for i in range(m):
-                q[i] = a * q_start[i] + bw * home[i]
+                q[i] = a * q_start[i] + bw * q_end[i]
         finite = True
         for i in range(m):
             # A posture beyond 1e6 (rad or m) means the estimate has exploded.
@@ -179,7 +208,7 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
         counters[STEP] = step
         counters[STEPS] += 1
         if step == L:
-            if kind == HOME:
+            if kind != GOAL:
                 # The next goal path starts at f(q_home), which is where the arm is.
                 for j in range(n):
                     path_end[j] = x[j]

@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.llm_kernels import llm_predict

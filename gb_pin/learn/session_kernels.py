@@ -13,13 +13,11 @@ run driven by the chain's own forward kinematics is bit-identical to ``babble_lo
 
 from __future__ import annotations
 
-from numba import njit
-
+from gb_pin._jit import njit
 from gb_pin.learn.exploration import noise_add, noise_walk
 from gb_pin.learn.layout import (
     DONE,
     GOAL,
-    HOME,
     KIND,
     LAST_KIND,
     MAX_POSTURE,
@@ -43,8 +41,11 @@ from gb_pin.learn.weighting import direction_weight, efficiency_weight
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
-    """E^X and D^home at the schedule entries due at the current movement count (compiled body)."""
-    evaluate_schedule(learner, robot, run, evaluation)
+    """E^X and D^home at the schedule entries due at the current movement count (compiled body).
+
+    Returns True when E^X fell to the run's stopping level (``evaluation.until``).
+    """
+    return evaluate_schedule(learner, robot, run, evaluation)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -67,12 +68,12 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
         again: nothing of the step has happened) or NOT_FINITE.
     """
     counters = run.counters
-    if counters[KIND] == NONE and not begin_movement(rng, learner.hyper.p_home, run, goals):
+    if counters[KIND] == NONE and not begin_movement(rng, learner.hyper.p_home, limits, run, goals):
         return NEED_GOAL
     mo = run.motion
     q, target = mo.q, mo.target
     lm = learner.lm
-    home, lower, upper = limits
+    lower, upper = limits.lower, limits.upper
     if counters[PROTOTYPES] >= lm.prototypes.shape[0]:
         return NEED_CAPACITY
     recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
@@ -89,7 +90,7 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
         noise_add(learner.noise.A, learner.noise.b, target, q)
     else:
         for i in range(q.shape[0]):
-            q[i] = a * mo.q_start[i] + bw * home[i]
+            q[i] = a * mo.q_start[i] + bw * mo.q_end[i]
     finite = True
     for i in range(q.shape[0]):
         if not (abs(q[i]) <= MAX_POSTURE):
@@ -135,7 +136,7 @@ def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
     counters[STEP] = step
     counters[STEPS] += 1
     if step == L:
-        if kind == HOME:
+        if kind != GOAL:
             for j in range(n):
                 mo.path_end[j] = x[j]
                 target_prev[j] = x[j]

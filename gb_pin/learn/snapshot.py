@@ -17,7 +17,7 @@ from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.config import BabbleConfig
-from gb_pin.learn.goals import GoalArrays, GoalGenerator
+from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 
@@ -48,6 +48,7 @@ def state_to_arrays(st: BabbleState) -> dict[str, NDArray[Any]]:
         "record": np.array(st.record, dtype=np.int64),
         "goal_istate": st.goal_state.istate,
         "goal_fstate": st.goal_state.fstate,
+        "until_error": np.array(np.nan if st.until_error is None else st.until_error),
     }
     for key in st.VECTORS:
         out[key] = st.vectors[key]
@@ -140,7 +141,10 @@ def _fill(
         raise InvalidArgumentError(f"the map has {st.llm.n_outputs_} outputs and {st.llm.n_inputs_} inputs")
     st.A = _real(arrays, "noise_A", (m, n))
     st.b = _real(arrays, "noise_b", (m,))
-    st.vectors = {k: _real(arrays, k, (m,) if k.startswith("q") else (n,)) for k in st.VECTORS}
+    # Files written before motor babbling have no q_end: it was always q_home then.
+    st.vectors = {k: _real(arrays, k, (m,) if k.startswith("q") else (n,))
+                  for k in st.VECTORS if k in arrays or k != "q_end"}  # fmt: skip
+    st.vectors.setdefault("q_end", st.home.copy())
     st.istate = _ints(arrays, "istate", (layout.ISTATE_SIZE,))
     record = _ints(arrays, "record", (3,))
     st.record = (int(record[0]), int(record[1]), int(record[2]))
@@ -159,9 +163,16 @@ def _fill(
     if "goal_istate" in arrays:  # files of gb_pin 0.1 have none: the paper's uniform goals
         gi = _ints(arrays, "goal_istate", fresh.istate.shape)
         gf = _real(arrays, "goal_fstate", fresh.fstate.shape, finite=False)
-        st.goal_state = GoalArrays(fresh.kind, st.targets, gi, gf)
+        st.goal_state = fresh._replace(targets=st.targets, istate=gi, fstate=gf)
+        goals.check_state(st.goal_state)
     else:
         st.goal_state = fresh
+    st.until_error = None
+    if "until_error" in arrays:  # files written before until_error have none
+        level = _real(arrays, "until_error", (), finite=False)
+        if not (np.isnan(level) or level > 0):
+            raise InvalidArgumentError(f"until_error must be a level > 0 or NaN, got {float(level)!r}")
+        st.until_error = None if np.isnan(level) else float(level)
     st.changes = []
     if "change_movements" in arrays:
         C = np.shape(arrays["change_movements"])[0] if np.ndim(arrays["change_movements"]) == 1 else 0
@@ -182,8 +193,8 @@ def _check_counters(st: BabbleState, K: int, R: int, T: int) -> None:
         i[layout.PROTOTYPES] == K
         and i[layout.MOVEMENTS] >= 0
         and 0 <= i[layout.STEP] <= L
-        and i[layout.KIND] in (layout.NONE, layout.GOAL, layout.HOME)
-        and i[layout.LAST_KIND] in (layout.NONE, layout.GOAL, layout.HOME)
+        and i[layout.KIND] in (layout.NONE, layout.GOAL, layout.HOME, layout.BABBLE)
+        and i[layout.LAST_KIND] in (layout.NONE, layout.GOAL, layout.HOME, layout.BABBLE)
         and 0 <= i[layout.EVAL_CURSOR] <= T
         and i[layout.STEPS] >= 0
         and i[layout.RECORDED] == R

@@ -14,7 +14,8 @@ from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.exploration import noise_init
-from gb_pin.learn.goals import GoalArrays, GoalGenerator, PythonGoals, make_goals
+from gb_pin.learn.goals import GoalGenerator, PythonGoals, make_goals
+from gb_pin.learn.goals.base import MOTOR, GoalState
 from gb_pin.learn.history import History, RecordedSteps, Recording
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.loop import babble_loop
@@ -30,7 +31,7 @@ class BabbleState:
     one (same joints and task dimension), e.g. grown links or a tool.
     """
 
-    VECTORS = ("q_prev", "q_start", "x_prev", "target_prev", "path_start", "path_end")
+    VECTORS = ("q_prev", "q_start", "q_end", "x_prev", "target_prev", "path_start", "path_end")
     REC_DTYPES: ClassVar[dict[str, type]] = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
 
     def __init__(self) -> None:
@@ -53,8 +54,9 @@ class BabbleState:
         self.record: tuple[int, int, int]
         self.rec: dict[str, NDArray[Any]]
         self.goals: GoalGenerator
-        self.goal_state: GoalArrays
+        self.goal_state: GoalState
         self.changes: list[tuple[int, KinematicChain]] = []
+        self.until_error: float | None = None
 
     @classmethod
     def start(
@@ -70,10 +72,15 @@ class BabbleState:
         record: Recording | None = None,
         goals: str | GoalGenerator | None = None,
         changes: dict[int, Kinematics] | None = None,
+        until_error: float | None = None,
     ) -> BabbleState:
-        """A fresh run at movement 0: the estimate is the constant q_home (paper Sec. II)."""
+        """A fresh run at movement 0: the estimate is the constant q_home (paper Sec. II).
+
+        ``until_error``: the run ends at the first evaluation with E^X <= this level [m].
+        """
         movements = check.positive_int("movements", movements)
         st = cls()
+        st.until_error = None if until_error is None else check.positive_float("until_error", until_error)
         st.rng = check.generator(seed)
         st.config = config
         # A robot given as a Python forward model has no compiled chain (ask/tell runs only).
@@ -91,6 +98,8 @@ class BabbleState:
         st.distances = np.full(st.schedule.shape[0], np.nan)
         st.goals = make_goals(goals)
         st.goal_state = st.goals.start(st.targets)
+        if st.goals.kind == MOTOR and not np.all(np.isfinite(st.home)):
+            raise InvalidArgumentError("motor babbling needs a finite home posture")
         st.set_changes(changes or {})
 
         x_home = (
@@ -158,6 +167,14 @@ class BabbleState:
         self.changes = out
 
     @property
+    def reached(self) -> bool:
+        """True once an evaluation found E^X <= ``until_error``: the run is over."""
+        if self.until_error is None:
+            return False
+        c = int(self.istate[layout.EVAL_CURSOR])
+        return bool(np.any(self.errors[:c] <= self.until_error))
+
+    @property
     def movements(self) -> int:
         """Completed movements r."""
         return int(self.istate[layout.MOVEMENTS])
@@ -192,13 +209,15 @@ class BabbleState:
         m, n = self.home.shape[0], self.targets.shape[1]
         body = self.chain.kernel() if self.chain is not None else None
         v = self.vectors
-        q_prev, q_start, x_prev, target_prev, path_start, path_end = (v[k] for k in self.VECTORS)
+        q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end = (v[k] for k in self.VECTORS)
         motion = layout.Motion(
-            q_prev, q_start, x_prev, target_prev, path_start, path_end, np.empty(m), np.empty(n), np.empty(n)
-        )
+            q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end,
+            np.empty(m), np.empty(n), np.empty(n),
+        )  # fmt: skip
         r = self.rec
         recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
-        evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances)
+        until = -np.inf if self.until_error is None else float(self.until_error)
+        evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances, until)
         return (
             layout.Learner(hyper, self.llm.kernel(), self.llm.scratch(), layout.Noise(self.A, self.b)),
             layout.Robot(layout.Limits(self.home, self.lower, self.upper), body),  # type: ignore[arg-type]
@@ -213,12 +232,12 @@ class BabbleState:
         Raises:
             DivergenceError: a posture became non-finite.
         """
-        while True:
+        while not self.reached:
             self._apply_changes()
             due = [at for at, _ in self.changes if at > self.movements]
             until = min([stop, *due])
             self._run_until(until)
-            if until >= stop:
+            if until >= stop or self.reached:
                 self._apply_changes()
                 return
 
@@ -234,6 +253,9 @@ class BabbleState:
             self.llm.set_count(int(self.istate[layout.PROTOTYPES]))
             if status == layout.DONE:
                 return
+            if status == layout.REACHED:
+                self._end_at_cursor()
+                return
             if status == layout.NEED_CAPACITY:
                 self.llm.reserve(2 * self.llm.capacity)
             elif status == layout.NEED_RECORD_CAPACITY:
@@ -244,6 +266,13 @@ class BabbleState:
             else:
                 self._diverged()
             args = self.kernel_args()
+
+    def _end_at_cursor(self) -> None:
+        """The run stopped at E^X <= until_error: its schedule ends at the evaluation that found it."""
+        c = int(self.istate[layout.EVAL_CURSOR])
+        self.schedule = self.schedule[:c].copy()
+        self.errors = self.errors[:c].copy()
+        self.distances = self.distances[:c].copy()
 
     def _grow_recording(self) -> None:
         grow = max(16, 2 * self.rec["step"].shape[0])

@@ -14,8 +14,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike
+
+from gb_pin._jit import njit
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

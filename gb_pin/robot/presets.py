@@ -24,6 +24,12 @@ A preset file (one per robot, installed as the package ``gb_pin.presets``)::
     shape = [3, 3, 3]
     [learner]                              # defaults where the paper's do not fit
     sigma = 0.05
+
+A stacked task (docs/TASKS.md) adds ``task = "pose"`` (or ``"pointing"``, with
+``pointing_axis``, and ``orientation_scale``), or ``[[task]]`` tables (``kind = "position"``,
+``frame``, ``axes``; ``kind = "orientation"``, ``scale``; ``kind = "pointing"``, ``axis``,
+``scale``); its ``[targets]`` grid is the first position component's, with ``turn`` [deg],
+``seed`` and ``mirror`` (:func:`gb_pin.robot.task_targets.task_grid`).
 """
 
 from __future__ import annotations
@@ -61,7 +67,19 @@ MAX_PLANAR_JOINTS = 500
 """The longest planar chain ``planarN`` builds (the paper's go up to 50 joints)."""
 
 _SOURCES = ("planar", "example-robot-data", "urdf")
-_COMMON_KEYS = ("name", "source", "description", "kind", "frame", "axes", "home", "targets", "learner")
+_TASK_KEYS = ("task", "orientation_scale", "pointing_axis")
+_COMMON_KEYS = (
+    "name",
+    "source",
+    "description",
+    "kind",
+    "frame",
+    "axes",
+    "home",
+    "targets",
+    "learner",
+    *_TASK_KEYS,
+)
 _SOURCE_KEYS = {
     "planar": ("total_length", "min_joints"),
     "example-robot-data": ("robot", "joints"),
@@ -91,6 +109,8 @@ class RobotPreset:
         robot: the example-robot-data name, or the URDF path, the model comes from.
         kind: a label for listings (``"planar arm"``, ``"arm"``, ``"humanoid arm"``).
         target_spec: the ``[targets]`` table as written.
+        task: ``task``, ``orientation_scale`` and ``pointing_axis`` as written (empty for the
+            plain position task): the :class:`~gb_pin.robot.target.KinematicTarget` arguments.
     """
 
     name: str
@@ -106,6 +126,7 @@ class RobotPreset:
     robot: str = ""
     kind: str = ""
     target_spec: dict[str, Any] = field(default_factory=dict)
+    task: dict[str, Any] = field(default_factory=dict)
 
     @property
     def pattern(self) -> str:
@@ -158,7 +179,10 @@ def _read_preset(text: str, filename: str) -> RobotPreset:
                 f"{[*_COMMON_KEYS, *_SOURCE_KEYS[source]]}"
             )
         spec = dict(raw.pop("targets"))
-        if spec.get("auto"):
+        task = {k: raw.pop(k) for k in _TASK_KEYS if k in raw}
+        if task and "task" not in task:
+            raise InvalidArgumentError(f"{sorted(task)} need a task (e.g. task = 'pose')")
+        if spec.get("auto") or task:  # stacked-task targets need the robot: resolved when it loads
             targets = None
         elif "points" in spec:
             targets = check.points("targets.points", spec["points"], len(str(raw.get("axes", "xyz"))))
@@ -204,6 +228,7 @@ def _read_preset(text: str, filename: str) -> RobotPreset:
             robot=robot,
             kind=kind,
             target_spec=spec,
+            task=task,
         )
     except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError) as exc:
         raise InvalidArgumentError(f"malformed robot preset {filename}: {exc}") from exc
@@ -311,6 +336,7 @@ def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarg
             preset.axes,
             targets=spec,
             label=name,
+            **preset.task,
         )
     options = preset.options
     srdf = options.get("srdf")
@@ -326,6 +352,7 @@ def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarg
         floating_base=bool(options.get("floating_base", False)),
         targets=spec,
         name=name,
+        **preset.task,
     )
 
 
@@ -333,7 +360,8 @@ def format_presets() -> str:
     """The presets as a text table: name, DOF, task axes, frame, source, number of targets, kind."""
     rows = [("name", "DOF", "axes", "frame", "source", "targets", "kind")]
     for p in robots():
-        rows.append((p.pattern, p.dof, p.axes, p.frame, p.origin, str(p.n_targets), p.kind))
+        axes = p.axes if not p.task else _task_label(p.task["task"], p.axes)
+        rows.append((p.pattern, p.dof, axes, p.frame, p.origin, str(p.n_targets), p.kind))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     right = {1, 5}
     lines = [
@@ -341,3 +369,16 @@ def format_presets() -> str:
         for r in rows
     ]
     return "\n".join(lines)
+
+
+def _task_label(task: Any, axes: str) -> str:
+    """A short label of a stacked task for listings: ``xyz+R`` (pose), ``xyz+d`` (pointing), ``xyz+xyz``."""
+    if task == "pose":
+        return f"{axes}+R"
+    if task == "pointing":
+        return f"{axes}+d"
+    if isinstance(task, list):
+        marks = {"orientation": "R", "pointing": "d"}
+        kinds = [(str(t.get("kind")), str(t.get("axes", "xyz"))) for t in task if isinstance(t, dict)]
+        return "+".join(axes if kind == "position" else marks.get(kind, "?") for kind, axes in kinds)
+    return str(task)

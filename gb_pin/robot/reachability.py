@@ -27,10 +27,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._jit import njit
 from gb_pin.learn.body.chain import PRISMATIC, KinematicChain, body_forward
 from gb_pin.learn.body.kinematics import Kinematics
 
@@ -260,7 +260,8 @@ def beyond_reach(
     does not move); the length bound is the sum of the joint-to-joint and
     joint-to-frame distances on that path plus the stroke of every prismatic joint
     on it. Distances on a subset of the axes are at most the 3-D distances, so the
-    test holds for any task axes. Infinite strokes give no bound (nothing flagged).
+    test holds for any task axes. Infinite strokes give no bound (nothing flagged), nor
+    does a stacked task (orientations, several frames).
 
     Args:
         chain: the robot's compiled kinematics.
@@ -272,6 +273,8 @@ def beyond_reach(
         (N,) bool, True where the point is farther than the bound.
     """
     X = np.atleast_2d(np.asarray(points, dtype=float))
+    if chain.components is not None:  # a stacked task: no cheap bound (check_reachable decides)
+        return np.zeros(X.shape[0], dtype=bool)
     lo = np.asarray(lower, dtype=float)
     hi = np.asarray(upper, dtype=float)
     path = []

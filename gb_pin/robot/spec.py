@@ -23,6 +23,14 @@ def is_robot_spec(name: str) -> bool:
     return ":" in name
 
 
+def spec_of(robot: Any) -> str | None:
+    """The ``MODULE:NAME`` spec this process loaded ``robot`` from (that very object), or None."""
+    for spec, loaded in _LOADED.items():
+        if loaded is robot:
+            return spec
+    return None
+
+
 def load_robot_spec(spec: str) -> Any:
     """The robot named by ``MODULE:NAME``: a module (or a ``.py`` file) and a robot or robot factory in it.
 

@@ -1,7 +1,9 @@
 """KinematicTarget: forward kinematics of one operational frame of a Pinocchio model.
 
 This is the robot side of goal babbling: a posture q of the joints the learner
-moves goes in, the position of one frame on the chosen task axes comes out. It
+moves goes in, the position of one frame on the chosen task axes comes out (or, with
+``task=``, a stacked task vector: positions, orientations and pointing directions of one or
+several frames, see :mod:`gb_pin.robot.task_spec`). It
 also carries the home posture, the joint limits and a target set. The learner never
 sees this class's robot-specific parts, only :attr:`KinematicTarget.chain` (plain
 arrays for compiled forward kinematics), :attr:`home` and the limits.
@@ -37,7 +39,9 @@ from gb_pin.robot.models import build_visual_model, load_example_robot, load_urd
 from gb_pin.robot.postures import home_posture, reference_posture, to_configuration
 from gb_pin.robot.reachability import beyond_reach, positions
 from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
-from gb_pin.robot.targets_auto import TargetSpec, auto_grid, resolve_targets
+from gb_pin.robot.targets_auto import TargetSpec, auto_grid, auto_task_grid, resolve_targets
+from gb_pin.robot.task_reader import pinocchio_task_vector, stack_task
+from gb_pin.robot.task_spec import TaskComponentSpec, TaskSpec, component_label, resolve_task
 
 
 class KinematicTarget:
@@ -68,11 +72,20 @@ class KinematicTarget:
             ``points``, or ``auto`` with ``shape``/``scale``). None: no default set
             (``babble`` then uses ``"auto"``).
         name: a label for messages and saved files.
+        task: what x is: None or ``"position"`` (the frame's position on ``axes``),
+            ``"pose"`` (position and full orientation of ``frame``), ``"pointing"`` (position
+            and the direction of ``pointing_axis``), or a sequence of
+            :class:`~gb_pin.robot.task_spec.Position`, :class:`~gb_pin.robot.task_spec.Orientation`
+            and :class:`~gb_pin.robot.task_spec.Pointing` specs of one or several frames.
+        orientation_scale: s [m/rad] of the rotational rows of ``"pose"`` and ``"pointing"``
+            (default 0.2).
+        pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector).
 
     Raises:
         UnknownRobotError: unknown frame or joint name.
         InvalidArgumentError: unsupported joint type, an unlocked floating base, bad
-            home, bad axes or targets.
+            home, bad axes or targets; a bad task (a frame the joints do not move, a scale
+            not finite and > 0, a bad axis).
     """
 
     def __init__(
@@ -85,6 +98,9 @@ class KinematicTarget:
         *,
         targets: TargetSpec = None,
         name: str | None = None,
+        task: TaskSpec = None,
+        orientation_scale: float | None = None,
+        pointing_axis: str | ArrayLike = "z",
     ) -> None:
         if not isinstance(model, pin.Model):
             raise InvalidArgumentError(f"model must be a pinocchio.Model, got {type(model).__name__}")
@@ -94,9 +110,13 @@ class KinematicTarget:
         self.model: pin.Model = lock_joints(model, self.joints, self.reference, self.name)
         self.frame_id: int = find_frame(self.model, frame, self.name)
         self.frame: str = frame
+        self.chain: KinematicChain
         self._data: pin.Data | None = None  # created on first use: pinocchio's Data is O(nv^3)
         self.full_model: pin.Model = pin.Model(model)
         self.axes: str = parse_axes(axes)
+        self.task: tuple[TaskComponentSpec, ...] | None = resolve_task(
+            task, frame, self.axes, orientation_scale, pointing_axis
+        )
         self._urdf: str | None = None
         self._package_dirs: list[str] | None = None
         self._auto: NDArray[np.float64] | None = None
@@ -105,6 +125,8 @@ class KinematicTarget:
         self.home: NDArray[np.float64] = home_posture(
             home, model, self.reference, self.joints, self._table.continuous, limits, self.name
         )
+        if self.task is not None:
+            self.chain = stack_task(self.chain, self.model, self.task, self.home, self.name)
         self.targets: NDArray[np.float64] | None = (
             None if targets is None else resolve_targets(targets, self, what="targets")
         )
@@ -128,7 +150,7 @@ class KinematicTarget:
         limits = read_limits(self.model, self._table)
         self.lower: NDArray[np.float64] = limits[0]
         self.upper: NDArray[np.float64] = limits[1]
-        self.chain: KinematicChain = read_chain(self.model, self._table, self.frame_id, self.axes)
+        self.chain = read_chain(self.model, self._table, self.frame_id, self.axes)
 
     # -- other constructors ---------------------------------------------------------
     @classmethod
@@ -145,6 +167,9 @@ class KinematicTarget:
         floating_base: bool = False,
         targets: TargetSpec = None,
         name: str | None = None,
+        task: TaskSpec = None,
+        orientation_scale: float | None = None,
+        pointing_axis: str | ArrayLike = "z",
     ) -> KinematicTarget:
         """A target from a URDF file (kinematics only: no mesh is loaded).
 
@@ -162,6 +187,9 @@ class KinematicTarget:
                 ``joints`` (the base is locked at the reference posture).
             targets: default target set (see the class).
             name: label; default the file's stem.
+            task: what x is (see the class).
+            orientation_scale: s [m/rad] of ``"pose"`` and ``"pointing"`` (see the class).
+            pointing_axis: the frame axis of ``"pointing"`` (see the class).
 
         Raises:
             InvalidArgumentError: missing or malformed URDF/SRDF, or any constructor error.
@@ -175,6 +203,9 @@ class KinematicTarget:
             axes,
             targets=targets,
             name=name if name is not None else Path(os.fspath(path)).stem,
+            task=task,
+            orientation_scale=orientation_scale,
+            pointing_axis=pointing_axis,
         )
         target._urdf = os.fspath(path)
         target._package_dirs = None if package_dirs is None else [os.fspath(p) for p in package_dirs]
@@ -191,6 +222,9 @@ class KinematicTarget:
         *,
         targets: TargetSpec = None,
         label: str | None = None,
+        task: TaskSpec = None,
+        orientation_scale: float | None = None,
+        pointing_axis: str | ArrayLike = "z",
     ) -> KinematicTarget:
         """A target from a robot of the example-robot-data package (e.g. ``"talos"``, ``"panda"``).
 
@@ -207,6 +241,9 @@ class KinematicTarget:
             axes: task axes, default ``"xyz"``.
             targets: default target set (see the class).
             label: the target's name for messages; default ``name``.
+            task: what x is (see the class).
+            orientation_scale: s [m/rad] of ``"pose"`` and ``"pointing"`` (see the class).
+            pointing_axis: the frame axis of ``"pointing"`` (see the class).
 
         Raises:
             UnknownRobotError: unknown robot, frame or joint (closest names listed).
@@ -214,7 +251,16 @@ class KinematicTarget:
         """
         model, _, urdf = load_example_robot(name)
         target = cls(
-            model, frame, joints, home, axes, targets=targets, name=label if label is not None else name
+            model,
+            frame,
+            joints,
+            home,
+            axes,
+            targets=targets,
+            name=label if label is not None else name,
+            task=task,
+            orientation_scale=orientation_scale,
+            pointing_axis=pointing_axis,
         )
         target._urdf = str(urdf)
         return target
@@ -227,8 +273,15 @@ class KinematicTarget:
 
     @property
     def n_task(self) -> int:
-        """Task dimension n (number of task axes)."""
-        return len(self.axes)
+        """Task dimension n (number of task axes, or rows of the stacked task)."""
+        return self.chain.n_task
+
+    @property
+    def component_labels(self) -> tuple[str, ...]:
+        """One label per task component (e.g. ``"orientation gripper_left_base_link"``)."""
+        if self.task is None:
+            return (f"position {self.frame}",)
+        return tuple(component_label(spec) for spec in self.task)
 
     @property
     def home_position(self) -> NDArray[np.float64]:
@@ -271,7 +324,7 @@ class KinematicTarget:
         return out[0] if single else out
 
     def forward_pinocchio(self, q: ArrayLike) -> NDArray[np.float64]:
-        """Frame position on the task axes computed by Pinocchio on the full model (for checks).
+        """The task vector computed by Pinocchio (``framesForwardKinematics``, ``log3``; for checks).
 
         Args:
             q: posture (m,) or postures (N, m), executed as given (not clipped).
@@ -284,7 +337,10 @@ class KinematicTarget:
         idx = self.chain.task_axes
         for i, qi in enumerate(arr2):
             pin.framesForwardKinematics(self.model, self.data, self.to_pinocchio(qi))
-            out[i] = self.data.oMf[self.frame_id].translation[idx]
+            if self.task is None:
+                out[i] = self.data.oMf[self.frame_id].translation[idx]
+            else:
+                out[i] = pinocchio_task_vector(self.model, self.data, self.chain, self.task)
         return out[0] if single else out
 
     def _postures(self, q: ArrayLike) -> tuple[NDArray[np.float64], bool]:
@@ -307,10 +363,12 @@ class KinematicTarget:
         """The ``"auto"`` target set: the largest reachable 3-per-axis grid around the home position [m].
 
         Computed once (seeded, so always the same) and cached; see
-        :func:`gb_pin.robot.targets_auto.auto_grid` for other shapes and scales.
+        :func:`gb_pin.robot.targets_auto.auto_grid` for other shapes and scales. With a stacked
+        ``task``: the target frame's position grid at the home orientation (or direction), shrunk
+        until every point is reachable (:func:`gb_pin.robot.targets_auto.auto_task_grid`).
         """
         if self._auto is None:
-            self._auto = auto_grid(self).targets
+            self._auto = auto_grid(self).targets if self.task is None else auto_task_grid(self)
         return self._auto.copy()
 
     def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
@@ -358,7 +416,8 @@ class KinematicTarget:
         return self._urdf
 
     def __repr__(self) -> str:
+        task = "" if self.task is None else f", task=[{', '.join(self.component_labels)}]"
         return (
             f"KinematicTarget(name={self.name!r}, frame={self.frame!r}, joints={self.n_joints}, "
-            f"axes={self.axes!r})"
+            f"axes={self.axes!r}{task})"
         )

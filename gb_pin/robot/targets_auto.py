@@ -14,6 +14,7 @@ here (``check_reachable``, ``beyond_reach``, ...), where they used to live.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -35,6 +36,7 @@ from gb_pin.robot.reachability import (
     sample_positions,
     sampling_bounds,
 )
+from gb_pin.robot.task_targets import task_grid
 
 __all__ = [
     "SAMPLES",
@@ -45,6 +47,7 @@ __all__ = [
     "TargetRobot",
     "TargetSpec",
     "auto_grid",
+    "auto_task_grid",
     "beyond_reach",
     "check_reachable",
     "grid_targets",
@@ -167,7 +170,8 @@ def auto_grid(
     return AutoGrid(targets=regular_grid(center, h, counts), center=center, half_width=h, shape=counts)
 
 
-_SPEC_KEYS = ("lower", "upper", "shape", "points", "auto", "scale", "seed")
+_SPEC_KEYS = ("lower", "upper", "shape", "points", "auto", "scale", "seed", "turn", "mirror")
+_TASK_GRID_KEYS = {"lower", "upper", "shape", "turn", "seed", "mirror"}
 
 
 def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDArray[np.float64]:
@@ -177,7 +181,10 @@ def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDA
         spec: an (N, n) array of points [m]; ``"auto"``; or a mapping: a grid
             ``{"lower": [...], "upper": [...], "shape": [...]}``, explicit points
             ``{"points": [[...], ...]}``, or ``{"auto": True}`` with optional
-            ``shape`` (points per axis), ``scale`` and ``seed`` (see :func:`auto_grid`).
+            ``shape`` (points per axis), ``scale`` and ``seed`` (see :func:`auto_grid`). For a
+            robot with a stacked task (orientations, several frames), a grid spec is the grid of
+            its first position component, with optional ``turn`` [deg], ``seed`` and ``mirror``
+            (see :func:`gb_pin.robot.task_targets.task_grid`).
         robot: the robot the targets are for (:class:`TargetRobot`), e.g. a
             :class:`~gb_pin.robot.target.KinematicTarget`.
         what: the argument's name in messages.
@@ -198,6 +205,20 @@ def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDA
         unknown = sorted(set(spec) - set(_SPEC_KEYS))
         if unknown:
             raise InvalidArgumentError(f"unknown keys {unknown} in {what} spec; valid: {list(_SPEC_KEYS)}")
+        if (
+            getattr(robot.chain, "components", None) is not None
+            and "points" not in spec
+            and not spec.get("auto")
+        ):
+            if not {"lower", "upper", "shape"} <= set(spec) <= _TASK_GRID_KEYS:
+                raise InvalidArgumentError(
+                    f"{what} spec of a stacked task must be a grid (lower, upper, shape) with optional "
+                    f"turn, seed, mirror; got keys {sorted(spec)}"
+                )
+            return task_grid(
+                robot, spec["lower"], spec["upper"], spec["shape"], turn=spec.get("turn", 0.0),
+                seed=spec.get("seed", 0), mirror=spec.get("mirror"),
+            )  # fmt: skip
         if spec.get("auto"):
             extra = sorted(set(spec) - {"auto", "shape", "scale", "seed"})
             if extra:
@@ -207,6 +228,10 @@ def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDA
             seed = spec.get("seed", 0)
             if isinstance(seed, bool) or not isinstance(seed, int):
                 raise InvalidArgumentError(f"{what} seed must be an integer, got {seed!r}")
+            if getattr(robot.chain, "components", None) is not None:
+                if "scale" in spec:
+                    raise InvalidArgumentError(f"{what} spec with auto of a stacked task takes shape, seed")
+                return auto_task_grid(robot, spec.get("shape"), seed=seed)
             return auto_grid(robot, spec.get("shape"), seed=seed, scale=spec.get("scale", 1.0)).targets
         if "points" in spec:
             if set(spec) != {"points"}:
@@ -223,3 +248,50 @@ def resolve_targets(spec: Any, robot: TargetRobot, what: str = "targets") -> NDA
             f"{what} spec must be a grid (lower, upper, shape), points, or auto; got keys {sorted(spec)}"
         )
     return robot.check_targets(spec, what)
+
+
+class _PositionView:
+    """A robot's target frame seen as a plain position task (the position grid of :func:`auto_task_grid`)."""
+
+    def __init__(self, robot: Robot):
+        self.chain = dataclasses.replace(robot.chain, components=None)
+        self.home, self.lower, self.upper = robot.home, robot.lower, robot.upper
+
+
+def auto_task_grid(
+    robot: Robot, shape: Sequence[int] | None = None, *, turn: float = 0.0, seed: int = 0, step: float = 0.01
+) -> NDArray[np.float64]:
+    """The ``"auto"`` target set of a stacked task whose first component is the target frame's position.
+
+    The largest reachable position grid of the frame (:func:`auto_grid`), shrunk (by bisection,
+    to multiples of ``step`` [m]) until :func:`~gb_pin.robot.task_targets.task_grid` (with
+    ``turn``) reaches every point.
+
+    Raises:
+        InvalidArgumentError: no such grid of half-width >= ``step``.
+    """
+    view = _PositionView(robot)
+    grid = auto_grid(view, shape, seed=seed)
+
+    def points(units: int) -> NDArray[np.float64] | None:
+        h = units * step
+        try:
+            return task_grid(robot, grid.center - h, grid.center + h, grid.shape, turn=turn, seed=seed)
+        except InvalidArgumentError:
+            return None
+
+    lo, hi = 0, int(grid.half_width / step) + 1  # bisection on the half-width, in units of step
+    best = None
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        found = points(mid)
+        if found is None:
+            hi = mid
+        else:
+            lo, best = mid, found
+    if best is not None:
+        return best
+    raise InvalidArgumentError(
+        f"no reachable task grid of half-width >= {step} m around the home position "
+        f"{grid.center.round(4).tolist()}"
+    )

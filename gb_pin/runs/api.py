@@ -59,6 +59,7 @@ def babble(
     goals: str | GoalGenerator | None = None,
     changes: dict[int, Any] | None = None,
     init: BabbleResult | None = None,
+    until_error: float | None = None,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -80,9 +81,12 @@ def babble(
         radius: prototype radius d [m].
         path_length: L, steps per movement.
         p_home: probability of a home return.
-        targets: target set X* (N, n) [m]; default the robot's, or for a target
-            without one the ``"auto"`` grid (:meth:`KinematicTarget.auto_targets`).
-        eval_targets: evaluation set; default ``targets``.
+        targets: target set X* (N, n) [m], where the goals come from; default the robot's, or
+            for a target without one the ``"auto"`` grid (:meth:`KinematicTarget.auto_targets`).
+            Generators that need no goal set (``"directions"``, ``"motor"``) use it only as the
+            default evaluation set.
+        eval_targets: the test set where E^X (Eq. 9) and D^home (Eq. 10) are measured, (M, n)
+            [m]; default ``targets`` (the paper: the goal set is the test set).
         schedule: movement counts at which to record E^X and D^home.
         callback: called with the movement count as the run progresses.
         record: which steps to record (postures, targets, positions) into
@@ -97,14 +101,18 @@ def babble(
             checkpoint before ``KeyboardInterrupt`` propagates.
         checkpoint_every: movements between checkpoints (default: a tenth of the run).
         goals: who chooses each movement's goal: a
-            :class:`~gb_pin.learn.goals.GoalGenerator` or its name; default the paper's
-            uniform choice over ``targets`` (``"uniform"``).
+            :class:`~gb_pin.learn.goals.GoalGenerator` or its name, optionally with parameters
+            (``"uniform"``, the paper's and the default; ``"uniform:snap=0.05"``; ``"cyclic"``;
+            ``"directions"``, no goal set needed; ``"error"``; ``"progress"``; ``"motor"``,
+            motor babbling as a baseline): see :mod:`gb_pin.learn.goals` and docs/GOALS.md.
         changes: body changes ``{movement: robot}``: from movement r on the robot's
             kinematics are those of the given robot (same joints and task axes; see
             :mod:`gb_pin.robot.bodies`), one history throughout.
         init: a previous :class:`BabbleResult` to continue learning from: its map, noise,
             random stream (``seed`` is then not used), goal generator and posture carry
             over to this robot (same joints and task axes); movements count from 0 again.
+        until_error: stop as soon as E^X on the test set is at most this level [m] (measured
+            at the ``schedule``'s counts); ``movements`` is then the most the run may take.
 
     Returns:
         A :class:`BabbleResult`.
@@ -134,10 +142,11 @@ def babble(
         with checkpoint_lock(checkpoint):
             return babble_function(target, learner, X, movements, rng, int_seed, callback, viewer, checkpoint,
                                    dict(eval_targets=eval_targets, schedule=schedule, record=record,
-                                        goals=goals, changes=changes, init=init))  # fmt: skip
+                                        goals=goals, changes=changes, init=init,
+                                        until_error=until_error))  # fmt: skip
     learner.state_ = setup.start_state(
         target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
-        goals=goals, changes=changes, init=init,
+        goals=goals, changes=changes, init=init, until_error=until_error,
     )  # fmt: skip
     runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
     observer = _attach(viewer, target, X)
@@ -182,6 +191,10 @@ def resume(
     check_writable(checkpoint, "checkpoint")
     setup.check_hooks(callback=callback, viewer=viewer)
     state, info = read_checkpoint(checkpoint)
+    if robot is None and info.robot is None and info.source is not None:
+        from gb_pin.runs.checkpoint import checkpoint_robot
+
+        robot = checkpoint_robot(checkpoint, info)  # a URDF / example-robot-data model, rebuilt
     if robot is None:
         if info.robot is None:
             raise InvalidArgumentError(
@@ -270,6 +283,7 @@ class _Runner:
 
     def write(self, state: BabbleState) -> None:
         from gb_pin.runs.checkpoint import CheckpointInfo, write_checkpoint
+        from gb_pin.runs.robot_source import describe
 
         assert self.path is not None
         info = CheckpointInfo(
@@ -279,6 +293,7 @@ class _Runner:
             seed=self.seed,
             config=state.config,
             wall_time=self.wall(),
+            source=describe(self.target, self.robot),  # how to rebuild a robot that is no preset
         )
         try:
             write_checkpoint(self.path, state, info)

@@ -15,12 +15,13 @@ import fcntl
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, ResultFileError
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.goals import make_goals
 from gb_pin.learn.state import BabbleState
-from gb_pin.runs import fields
+from gb_pin.runs import fields, robot_source
 from gb_pin.runs.archive import atomic_savez, read_archive
 
 FORMAT = "gb_pin.checkpoint"
@@ -38,6 +39,7 @@ class CheckpointInfo:
         seed: the integer seed, or None if a Generator was given.
         config: hyperparameters.
         wall_time: seconds of babbling before the checkpoint.
+        source: how to rebuild a robot that is no preset (:mod:`gb_pin.runs.robot_source`), or None.
     """
 
     robot: str | None
@@ -46,6 +48,7 @@ class CheckpointInfo:
     seed: int | None
     config: BabbleConfig
     wall_time: float
+    source: dict[str, Any] | None = None
 
 
 def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: CheckpointInfo) -> None:
@@ -62,6 +65,8 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
         "rng": state.rng_state(),
         "goals": {"name": state.goals.name, "params": state.goals.get_params()},
     }
+    if info.source is not None:
+        meta["robot_source"] = info.source
     atomic_savez(os.fspath(path), dict(state.to_arrays()), meta)
 
 
@@ -83,6 +88,7 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             seed=fields.seed(path, meta),
             config=config,
             wall_time=fields.seconds(path, meta, "wall_time"),
+            source=robot_source.check(path, meta.get("robot_source")),
         )
         goals = meta.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
         if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
@@ -94,6 +100,25 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted checkpoint ({exc!r})") from exc
     return state, info
+
+
+def checkpoint_robot(path: str | os.PathLike[str], info: CheckpointInfo) -> Any:
+    """The robot of a checkpoint's run: its preset, else the model its robot source records, rebuilt.
+
+    Raises:
+        InvalidArgumentError: the checkpoint records neither (a robot built in Python): pass it.
+        ResultFileError: the recorded robot cannot be rebuilt (the message says how to pass it).
+    """
+    from gb_pin.robot.presets import load_robot
+
+    if info.robot is not None:
+        return load_robot(info.robot)
+    if info.source is None:
+        raise InvalidArgumentError(
+            f"{os.fspath(path)}: the run used a custom robot {info.target_name!r} that the checkpoint "
+            "cannot rebuild; pass it as robot= to resume"
+        )
+    return robot_source.rebuild(os.fspath(path), info.source)
 
 
 @contextlib.contextmanager

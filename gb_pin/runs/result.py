@@ -72,6 +72,17 @@ class BabbleResult:
         """Number of local linear models K."""
         return self.model.n_prototypes_
 
+    def task_errors(self) -> Any:
+        """Final errors per task component over ``targets``: positions [m], rotations [deg] (docs/TASKS.md).
+
+        Returns:
+            A :class:`~gb_pin.learn.component_metrics.ComponentErrors` (``.mean``, ``.quantile(q)``,
+            ``.summary(target.component_labels)``).
+        """
+        from gb_pin.learn.component_metrics import task_errors
+
+        return task_errors(self.model, self.target, self.targets)
+
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
         write_result(self, path)
@@ -162,9 +173,12 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
 
     Args:
         path: the ``.npz`` file.
-        target: the robot, needed only for results of a custom (non-preset) target.
+        target: the robot; default the preset the file names, else the URDF or example-robot-data
+            model it records (rebuilt and checked, :mod:`gb_pin.runs.robot_source`). Needed for a
+            robot built in Python from a ``pin.Model`` or a function, or loaded by ``MODULE:NAME``.
 
     Raises:
-        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file, or a recorded
+            robot that cannot be rebuilt (the message says what was recorded and how to pass it).
     """
     return BabbleResult.load(path, target)

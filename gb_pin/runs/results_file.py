@@ -12,7 +12,7 @@ from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
-from gb_pin.runs import fields
+from gb_pin.runs import fields, robot_source
 from gb_pin.runs.archive import atomic_savez, read_archive
 
 if TYPE_CHECKING:
@@ -50,6 +50,9 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         "steps": result.steps,
         "wall_time": result.wall_time,
     }
+    source = robot_source.describe(result.target, result.robot)
+    if source is not None:  # how to rebuild a robot that is no preset (files of 0.1 have none)
+        meta["robot_source"] = source
     path = check_writable(path, "result file")
     recording = {} if result.recording is None else result.recording.to_arrays()
     atomic_savez(
@@ -72,10 +75,12 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
 
     Args:
         path: the ``.npz`` file.
-        target: the robot, needed only for results of a custom (non-preset) target.
+        target: the robot; default the preset the file names, else the URDF or example-robot-data
+            model its ``robot_source`` records, rebuilt (:mod:`gb_pin.runs.robot_source`).
 
     Raises:
-        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file, or a robot
+            that cannot be rebuilt from what the file records (the message says how to pass it).
     """
     path = os.fspath(path)
     arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
@@ -87,13 +92,9 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         for key in ("n_joints", "n_task"):
             if isinstance(meta.get(key), bool) or not isinstance(meta.get(key), int):
                 raise ResultFileError(f"{path}: {key} must be an integer, got {str(meta.get(key))[:80]!r}")
+        source = robot_source.check(path, meta.get("robot_source"))
         if target is None:
-            if robot is None:
-                raise ResultFileError(
-                    f"{path}: saved from a custom KinematicTarget {meta['target_name']!r}; "
-                    "pass target= to load_result"
-                )
-            target = load_robot(robot)
+            target = _rebuild(path, robot, source, meta.get("target_name"))
         if (target.n_joints, target.n_task) != (meta["n_joints"], meta["n_task"]):
             raise ResultFileError(
                 f"{path}: saved for {meta['n_joints']} joints and {meta['n_task']} task axes, "
@@ -127,3 +128,21 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
+
+
+def _rebuild(path: str, robot: str | None, source: dict[str, Any] | None, name: Any) -> Any:
+    """The run's robot, from the preset name or the robot source the file records.
+
+    Raises:
+        ResultFileError: the file records neither (a robot given as a Python object), or the
+            recorded robot cannot be rebuilt.
+    """
+    if robot is not None:
+        return load_robot(robot)
+    if source is not None:
+        return robot_source.rebuild(path, source)
+    raise ResultFileError(
+        f"{path}: saved from a custom robot {str(name)[:80]!r} that the file cannot rebuild (built in "
+        "Python from a pin.Model or a function); pass it: load_result(path, target=...) in Python, or "
+        "--robot (a URDF or erd:NAME with --frame, --joints, --home, --axes; or MODULE:NAME) in gb-pin"
+    )

@@ -81,8 +81,12 @@ class BabbleSession:
 
     @property
     def done(self) -> bool:
-        """Whether all planned movements are complete."""
-        return self.movements >= self.total
+        """Whether all planned movements are complete, or E^X reached ``until_error``."""
+        if self.movements >= self.total:
+            return True
+        if not self._stepper.pending:
+            self._stepper.evaluate()  # due evaluations happen between movements (idempotent)
+        return self.state.reached
 
     @property
     def waiting(self) -> bool:
@@ -175,6 +179,7 @@ def babble_session(
     init: BabbleResult | None = None,
     checkpoint: str | os.PathLike[str] | None = None,
     checkpoint_every: int | None = None,
+    until_error: float | None = None,
 ) -> BabbleSession:
     """A goal-babbling run as an ask/tell loop; the arguments are :func:`gb_pin.babble`'s.
 
@@ -197,7 +202,7 @@ def babble_session(
         check_writable(checkpoint, "checkpoint")
     state = setup.start_state(
         target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
-        goals=goals, changes=changes, init=init,
+        goals=goals, changes=changes, init=init, until_error=until_error,
     )  # fmt: skip
     return BabbleSession(target, state, movements, robot=name, seed=int_seed, checkpoint=checkpoint,
                          checkpoint_every=checkpoint_every)  # fmt: skip

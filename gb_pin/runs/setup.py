@@ -18,7 +18,7 @@ from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.config import BY_NAME, NAMES
-from gb_pin.learn.goals import GoalArrays, GoalGenerator
+from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import Recording
 from gb_pin.learn.learner import GoalBabbling
 from gb_pin.learn.llm import LocalLinearMap
@@ -117,13 +117,14 @@ def start_state(
     goals: str | GoalGenerator | None,
     changes: dict[int, Any] | None,
     init: Any | None,
+    until_error: float | None = None,
 ) -> BabbleState:
     """The state at movement 0: fresh, or continuing ``init`` (a result with a final state)."""
     config = learner._resolve(target.n_joints)
     kinematics: Any = target  # a Kinematics, or a forward model without a compiled chain
     st = BabbleState.start(
         kinematics, X, movements, config, seed=rng, eval_targets=eval_targets, schedule=schedule,
-        record=record, goals=goals, changes=changes,
+        record=record, goals=goals, changes=changes, until_error=until_error,
     )  # fmt: skip
     if init is not None:
         continue_from(st, init)
@@ -166,7 +167,7 @@ def continue_from(st: BabbleState, init: Any) -> None:
     st.istate[layout.LAST_KIND] = prev.istate[layout.LAST_KIND]
     old = prev.goal_state
     if old.kind == st.goal_state.kind and np.array_equal(old.targets, st.targets):
-        st.goal_state = GoalArrays(old.kind, st.targets, old.istate.copy(), old.fstate.copy())
+        st.goal_state = st.goal_state._replace(istate=old.istate.copy(), fstate=old.fstate.copy())
 
 
 def generator(seed: Any, init: Any | None = None) -> tuple[np.random.Generator, int | None]:

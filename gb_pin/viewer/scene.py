@@ -25,6 +25,7 @@ from gb_pin.viewer.legend import Legend, legend_command, remove_control
 from gb_pin.viewer.markers import Markers, draw_target_set
 from gb_pin.viewer.overlay import draw_overlay
 from gb_pin.viewer.style import BACKGROUND_BOTTOM, BACKGROUND_TOP, CAMERA_FOV, ROOT
+from gb_pin.viewer.task_markers import TaskLayout, draw_task
 
 if TYPE_CHECKING:
     from gb_pin.robot.target import KinematicTarget
@@ -57,7 +58,9 @@ class Scene:
         self.targets = np.atleast_2d(np.asarray(targets, dtype=float))
         self.figure = make_figure(target, visual_model)
         self.trail = trail
-        self.task_axes = np.array(target.chain.task_axes, dtype=np.int64)
+        # A stacked task (docs/TASKS.md): its first position is embedded, the rest drawn by task_markers.
+        self.layout = TaskLayout.of(target)
+        self.task_axes = self.layout.position_axes
         self.home3 = self.figure.effector(target.home)
         self.marker_radius = self.figure.effector_radius
         self.markers = Markers(window, self.marker_radius, trail)
@@ -65,14 +68,24 @@ class Scene:
 
     # -- geometry ----------------------------------------------------------------------------
     def embed(self, X: ArrayLike) -> NDArray[np.float64]:
-        """Task-space points (N, n) as 3-D points: other coordinates from the home effector position."""
+        """Task-space points (N, n) as 3-D points: other coordinates from the home effector position.
+
+        For a stacked task, the rows of its first position component.
+        """
         X = np.atleast_2d(np.asarray(X, dtype=float))
         out = np.tile(self.home3, (X.shape[0], 1))
-        out[:, self.task_axes] = X
+        out[:, self.task_axes] = X[:, self.layout.position_rows]
         return out
 
+    def embed_rows(self, X: ArrayLike) -> NDArray[np.float64]:
+        """The rows of task vectors (N, n) that :meth:`embed` draws (its grid structure)."""
+        return np.atleast_2d(np.asarray(X, dtype=float))[:, self.layout.position_rows]
+
     def _bounds(self) -> tuple[NDArray[np.float64], float]:
-        pts = np.vstack([self.figure.skeleton(self.target.home), self.embed(self.targets), np.zeros((1, 3))])
+        others = [self.targets[:, rows] for rows in self.layout.others]
+        pts = np.vstack(
+            [self.figure.skeleton(self.target.home), self.embed(self.targets), *others, np.zeros((1, 3))]
+        )
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         return (lo + hi) / 2.0, float(max(np.max(hi - lo) / 2.0, 0.1 * self.figure.size))
 
@@ -108,7 +121,11 @@ class Scene:
             w.send_encoded(*property_message("/Grid", "visible", False))
         self.figure.load(w)
         self.markers.load()
-        draw_target_set(w, self.targets, self.embed(self.targets) + self._below(), self.figure.size)
+        draw_target_set(
+            w, self.embed_rows(self.targets), self.embed(self.targets) + self._below(), self.figure.size
+        )
+        if self.layout.stacked:
+            draw_task(w, self.layout, self.targets, self.figure.size, reached=False, offset=self._below())
         self.pose(self.target.home, None, None)
         self.label()
 
@@ -119,9 +136,11 @@ class Scene:
             status: the run's state, e.g. :func:`gb_pin.viewer.legend.status_line`.
             overlay_note: a line about the learned model's overlay (shown, hidden, of which movement).
         """
-        chain = self.target.chain
-        axes = "".join("xyz"[int(a)] for a in chain.task_axes)
+        axes = "".join("xyz"[int(a)] for a in self.task_axes)
         details = f"{self.target.n_joints} joints, task axes {axes}"
+        if self.layout.stacked:
+            details = f"{self.target.n_joints} joints, task: {'; '.join(self.target.component_labels)}"
+            details += self.layout.note
         meshes = type(self.figure).__name__ == "MeshFigure"
         legend = Legend(self.target.name, details, status, overlay_note, meshes)
         self.window.send(legend_command(legend))
@@ -191,20 +210,27 @@ class Scene:
         Returns:
             The drawn arrays (``reached`` (N, 3), ``skeletons`` (few, 2S, 3)), for tests.
         """
-        return draw_overlay(
+        drawn = draw_overlay(
             self.window,
             self.figure,
-            self.targets,
+            self.embed_rows(self.targets),
             self.embed(self.targets),
             postures,
             few=few,
             offset=self._below(),
         )
+        if self.layout.stacked:  # the reached orientations, directions and other frames' positions
+            X = np.array([self.target.chain.forward(q) for q in self.target.clip(np.atleast_2d(postures))])
+            task = draw_task(
+                self.window, self.layout, X, self.figure.size, reached=True, offset=self._below()
+            )
+            drawn.update({f"task_{k}": v for k, v in task.items()})
+        return drawn
 
     def show_model(self, postures: NDArray[np.float64], few: int = 5) -> None:
         """Draw a learned model: its Fig. 3 overlay, and the robot at g of the target nearest the centre."""
         self.overlay(postures, few=few)
-        centre = spread_indices(self.targets, 1)[0]
+        centre = spread_indices(self.embed_rows(self.targets), 1)[0]
         self.pose(postures[centre], self.targets[centre], None)
 
     # -- replay animation ----------------------------------------------------------------------------

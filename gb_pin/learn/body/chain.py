@@ -17,12 +17,20 @@ from dataclasses import dataclass, fields
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn.body.components import TaskComponents
 from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
-from gb_pin.learn.body.task import FramePosition, TaskArrays, task_forward
+from gb_pin.learn.body.task import (
+    FramePosition,
+    StackedTask,
+    StackedTaskArrays,
+    TaskArrays,
+    TaskMap,
+    task_forward,
+)
 
 __all__ = ["PRISMATIC", "REVOLUTE", "Body", "KinematicChain", "body_forward"]
 
@@ -38,7 +46,7 @@ class Body(NamedTuple):
     """
 
     joints: Joints
-    task: TaskArrays
+    task: TaskArrays | StackedTaskArrays
     rot_ws: NDArray[np.float64]
     pos_ws: NDArray[np.float64]
 
@@ -52,7 +60,7 @@ def body_forward(q, body, out):  # type: ignore[no-untyped-def]
 
 @dataclass(frozen=True, eq=False)
 class KinematicChain:
-    """Arrays describing the forward kinematics of one frame's position.
+    """Arrays describing the forward kinematics of one frame's position, or of a stacked task.
 
     Joints are numbered 0..m-1 so that every joint's parent comes before it;
     ``q_index`` maps them to entries of the learner's posture vector q. Joint i's frame is
@@ -68,6 +76,10 @@ class KinematicChain:
         frame_parent: index of the joint carrying the operational frame, -1 for the world.
         frame_translation: (3,) position of the frame in its parent joint [m].
         task_axes: (n,) int64, which world coordinates (0=x, 1=y, 2=z) the learner sees.
+        components: None for the frame-position task above; else the stacked task map the
+            learner sees (positions, orientations, pointing directions of frames), and then
+            ``frame_parent``, ``frame_translation`` and ``task_axes`` describe its first
+            component's frame and position axes (for viewers and reach checks only).
     """
 
     parents: NDArray[np.int64]
@@ -79,6 +91,7 @@ class KinematicChain:
     frame_parent: int
     frame_translation: NDArray[np.float64]
     task_axes: NDArray[np.int64]
+    components: TaskComponents | None = None
 
     @property
     def n_joints(self) -> int:
@@ -88,6 +101,8 @@ class KinematicChain:
     @property
     def n_task(self) -> int:
         """Task dimension n."""
+        if self.components is not None:
+            return self.components.n_task
         return int(self.task_axes.shape[0])
 
     @property
@@ -96,8 +111,10 @@ class KinematicChain:
         return Joints(self.parents, self.rotations, self.translations, self.axes, self.kinds, self.q_index)
 
     @property
-    def task(self) -> FramePosition:
-        """The task map: the frame's position on :attr:`task_axes`."""
+    def task(self) -> TaskMap:
+        """The task map: the frame's position on :attr:`task_axes`, or the stacked components."""
+        if self.components is not None:
+            return StackedTask(self.components)
         return FramePosition(self.frame_parent, self.frame_translation, self.task_axes)
 
     def kernel(self) -> Body:
@@ -116,8 +133,18 @@ class KinematicChain:
 
     # -- as plain arrays (checkpoints) --------------------------------------------
     def to_arrays(self, prefix: str = "chain_") -> dict[str, NDArray[Any]]:
-        """Every field as an array, under ``prefix + name``."""
-        return {prefix + f.name: np.asarray(getattr(self, f.name)) for f in fields(self)}
+        """Every field as an array, under ``prefix + name`` (components: ``prefix + "component_" + name``)."""
+        out = {
+            prefix + f.name: np.asarray(getattr(self, f.name)) for f in fields(self) if f.name != "components"
+        }
+        if self.components is not None:
+            out.update(
+                {
+                    prefix + "component_" + k: np.asarray(getattr(self.components, k))
+                    for k in TaskComponents.FIELDS
+                }
+            )
+        return out
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, Any], prefix: str = "chain_") -> KinematicChain:
@@ -127,7 +154,9 @@ class KinematicChain:
             InvalidArgumentError: arrays missing, of the wrong dtype, shape or range.
         """
         try:
-            raw = {f.name: np.asarray(arrays[prefix + f.name]) for f in fields(cls)}
+            raw = {f.name: np.asarray(arrays[prefix + f.name]) for f in fields(cls) if f.name != "components"}
+            stacked = {k: np.asarray(arrays[prefix + "component_" + k]) for k in TaskComponents.FIELDS
+                       if prefix + "component_kinds" in arrays}  # fmt: skip
         except KeyError as exc:
             raise InvalidArgumentError(f"kinematic chain incomplete (missing {exc})") from exc
         ints = ("parents", "kinds", "q_index", "task_axes")
@@ -141,6 +170,14 @@ class KinematicChain:
         if values["frame_parent"].shape != ():
             raise InvalidArgumentError("kinematic chain: frame_parent must be one integer")
         values["frame_parent"] = int(values["frame_parent"])
+        if stacked:
+            for name, arr in stacked.items():
+                if arr.dtype.kind not in ("iu" if name in TaskComponents.INTS else "fiu"):
+                    raise InvalidArgumentError(f"kinematic chain: component_{name} has dtype {arr.dtype}")
+            values["components"] = TaskComponents(**{  # type: ignore[arg-type]
+                k: np.array(a, dtype=np.int64 if k in TaskComponents.INTS else np.float64, order="C")
+                for k, a in stacked.items()
+            })  # fmt: skip
         chain = cls(**values)
         chain.validate()
         return chain
@@ -177,3 +214,7 @@ class KinematicChain:
                 "kinematic chain: indices out of range (parents, kinds, q_index, frame_parent or "
                 "task_axes) or non-finite placements"
             )
+        if self.components is not None:
+            problem = self.components.validate(m)
+            if problem is not None:
+                raise InvalidArgumentError(f"kinematic chain: {problem}")

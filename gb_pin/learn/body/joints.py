@@ -12,8 +12,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from gb_pin._jit import njit
 
 REVOLUTE = 0
 PRISMATIC = 1

@@ -9,7 +9,9 @@ Lemire otherwise), so the Generator is advanced identically (tests/test_goal_dra
 
 from __future__ import annotations
 
-from numba import int64, njit, uint64
+from numba import int64, uint64
+
+from gb_pin._jit import njit
 
 try:  # numba's own building blocks of Generator.integers (internal modules: guarded)
     from numba.np.random.generator_core import next_uint32

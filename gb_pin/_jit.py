@@ -1,0 +1,100 @@
+"""``njit`` for gb_pin's kernels, with an on-disk cache that notices changes in any kernel file.
+
+numba caches a compiled function beside its source and reuses it while *that file* is
+unchanged; but a kernel's machine code also holds the kernels it calls from other files
+(``inline="always"`` helpers, the goal dispatch, the task maps). Edit one of those and numba
+would go on loading the old code. Here the freshness stamp of every gb_pin kernel is the hash
+of all the files in :data:`KERNEL_FILES` together, so that any change there recompiles all of
+them (tests/test_jit.py keeps the list complete). Every gb_pin module with compiled code
+imports ``njit`` from here, which installs the stamp before the first kernel is declared.
+Functions outside gb_pin keep numba's own rule.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+from typing import Any
+
+from numba import njit
+
+# The package's files that hold compiled code, relative to the package directory.
+KERNEL_FILES: tuple[str, ...] = (
+    "ik/jacobian.py",
+    "ik/solver.py",
+    "learn/body/chain.py",
+    "learn/body/components.py",
+    "learn/body/joints.py",
+    "learn/body/task.py",
+    "learn/component_metrics.py",
+    "learn/exploration.py",
+    "learn/goals/draw.py",
+    "learn/goals/kernel.py",
+    "learn/llm_kernels.py",
+    "learn/loop.py",
+    "learn/metrics.py",
+    "learn/session_kernels.py",
+    "learn/weighting.py",
+    "robot/reachability.py",
+)
+PACKAGE = os.path.dirname(os.path.abspath(__file__))
+
+
+@functools.lru_cache(maxsize=1)
+def kernel_stamp() -> bytes:
+    """The hash of every file of :data:`KERNEL_FILES` (in order; a missing file counts as empty)."""
+    digest = hashlib.sha256()
+    for name in KERNEL_FILES:
+        digest.update(name.encode())
+        try:
+            with open(os.path.join(PACKAGE, name), "rb") as f:
+                digest.update(hashlib.sha256(f.read()).digest())
+        except OSError:
+            digest.update(b"missing")
+    return digest.digest()
+
+
+def _ours(py_file: str) -> bool:
+    return os.path.abspath(py_file).startswith(PACKAGE + os.sep)
+
+
+def _install() -> bool:
+    """Put gb_pin's locators first in numba's list; False if this numba lacks the hooks."""
+    try:
+        from numba.core import caching
+
+        impl = caching.CacheImpl
+        bases = [caching.UserProvidedCacheLocator, caching.InTreeCacheLocator, caching.UserWideCacheLocator]
+    except (ImportError, AttributeError):  # pragma: no cover - a numba that moved them: its own rule
+        return False
+    if any(getattr(cls, "gb_pin", False) for cls in impl._locator_classes):
+        return True
+
+    def subclass(base: type) -> type:
+        def from_function(cls: type, py_func: Any, py_file: str) -> Any:
+            if not _ours(py_file):
+                return None
+            return base.from_function.__func__(cls, py_func, py_file)  # type: ignore[attr-defined]
+
+        def get_source_stamp(self: Any) -> bytes:
+            return kernel_stamp()
+
+        return type(
+            f"GbPin{base.__name__}",
+            (base,),
+            {
+                "gb_pin": True,
+                "from_function": classmethod(from_function),
+                "get_source_stamp": get_source_stamp,
+            },
+        )
+
+    ours: list[Any] = [subclass(b) for b in bases]
+    impl._locator_classes = [*ours, *impl._locator_classes]
+    return True
+
+
+INSTALLED = _install()
+
+__all__ = ["INSTALLED", "KERNEL_FILES", "kernel_stamp", "njit"]
