@@ -247,6 +247,36 @@ def test_component_history_observes_without_changing_the_run(presets: dict[str, 
     np.testing.assert_array_equal(history.errors[-1], final.mean)
 
 
+def test_histories_split_e_x_by_component_in_compiled_code(
+    presets: dict[str, KinematicTarget], tmp_path: Path
+) -> None:
+    """history.components (T, C) equals the Python observer at its counts, survives files and checkpoints."""
+    from gb_pin.learn.component_metrics import ComponentHistory
+    from gb_pin.learn.learner import GoalBabbling
+    from gb_pin.learn.state import BabbleState
+
+    target = presets["talos_left_arm_pose"]
+    assert target.targets is not None
+    observer = ComponentHistory(target, target.targets)
+    fitted = GoalBabbling().fit(target, target.targets, 200, seed=2, observer=observer, observe_every=100)
+    h = fitted.history_
+    assert h.components is not None and h.components.shape == (h.movements.size, 2)
+    for r, expected in zip(observer.movements, observer.errors, strict=True):
+        np.testing.assert_allclose(h.components[h.movements == r][0], expected, rtol=1e-12)
+    # Checkpoint arrays: a resumed run measures the same components, bit for bit.
+    st = BabbleState.start(target, target.targets, 200, fitted.config_, seed=2)
+    st.run(77)
+    again = BabbleState.from_arrays(st.to_arrays(), st.config, st.rng_state())
+    again.run(200)
+    assert np.array_equal(again.components, h.components, equal_nan=True)
+    # Result files keep them; the paper's position task has none.
+    result = gb_pin.babble("talos_left_arm_pose", movements=20, seed=0)
+    result.save(tmp_path / "pose.npz")
+    loaded = gb_pin.load_result(tmp_path / "pose.npz")
+    assert np.array_equal(loaded.history.components, result.history.components, equal_nan=True)
+    assert gb_pin.babble("planar5", movements=5, seed=0).history.components is None
+
+
 def test_scene_draws_target_and_reached_triads(presets: dict[str, KinematicTarget]) -> None:
     """The viewer draws a triad per target and reached pose (R_ref exp(x / s)) and the second hand's sets."""
     from gb_pin.viewer.cache import OfflineWindow

@@ -14,17 +14,25 @@ if TYPE_CHECKING:
 def add_reproduce(sub: Subparsers) -> None:
     """Register ``reproduce``."""
     sub.add_parser(
-        "reproduce", help="the paper's figures 3-8, their numbers and results.md", configure=_add_options
+        "reproduce",
+        help="the paper's figures 3-8, their numbers and results.md; 'goals': see docs/GOALS.md",
+        configure=_add_options,
     )
 
 
 def _add_options(p: argparse.ArgumentParser) -> None:
     """``reproduce``'s figures and options."""
     p.add_argument(
-        "figures", nargs="+", metavar="FIGURE", help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all"
+        "figures",
+        nargs="+",
+        metavar="FIGURE",
+        help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all; or goals: the goal generators of "
+        "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused)",
     )
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
-    p.add_argument("--trials", type=int, default=100, help="trials per condition (default 100, the paper's)")
+    p.add_argument(
+        "--trials", type=int, default=None, help="trials per condition (default 100, the paper's; goals: 20)"
+    )
     p.add_argument(
         "--movements",
         type=int,
@@ -49,10 +57,23 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.reproduce import reproduce
 
     checks.directory(args.out, "--out")
+    if args.figures == ["goals"]:
+        from gb_pin.reproduce.goals import goal_study
+
+        trials = 20 if args.trials is None else args.trials
+        kw = {
+            "movements": args.movements,
+            "seed": args.seed,
+            "workers": args.workers,
+            "progress": not args.quiet,
+        }
+        files = goal_study(args.out, trials=trials, **kw)
+        print(f"wrote {len(files)} files to {args.out} (see goals.md)")
+        return 0
     result = reproduce(
         args.figures,
         out=args.out,
-        trials=args.trials,
+        trials=100 if args.trials is None else args.trials,
         movements=args.movements,
         seed=args.seed,
         workers=args.workers,

@@ -20,11 +20,15 @@ class History:
         movements: (T,) movement counts r at which the model was evaluated (starts at 0).
         error: (T,) E^X (Eq. 9) [m].
         home_distance: (T,) D^home (Eq. 10) [rad].
+        components: (T, C) for a stacked task: E^X split by task component ([m] for a
+            position, [deg] for an orientation or pointing direction; see
+            :mod:`gb_pin.learn.component_metrics`); None for the paper's position task.
     """
 
     movements: NDArray[np.int64]
     error: NDArray[np.float64]
     home_distance: NDArray[np.float64]
+    components: NDArray[np.float64] | None = None
 
     def at(self, movements: int) -> tuple[float, float]:
         """(E^X, D^home) at a recorded movement count."""

@@ -126,6 +126,7 @@ class Run(NamedTuple):
 class Evaluation(NamedTuple):
     """When and where E^X and D^home are measured, and the output arrays (one entry per count).
 
+    ``components`` (T, C): E^X per task component of a stacked task (C = 0 for the paper's).
     ``until``: the run stops (REACHED) at the first evaluation with E^X <= until (-inf: never).
     """
 
@@ -133,6 +134,7 @@ class Evaluation(NamedTuple):
     targets: NDArray[np.float64]
     errors: NDArray[np.float64]
     distances: NDArray[np.float64]
+    components: NDArray[np.float64]
     until: float
 
 

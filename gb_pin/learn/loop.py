@@ -88,7 +88,7 @@ def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyp
         if at[c] == r:
             e, d = evaluate_model(
                 evaluation.targets, robot.limits, robot.body, learner.lm, counters[PROTOTYPES],
-                run.motion.q, run.motion.x,
+                run.motion.q, run.motion.x, evaluation.components[c],
             )  # fmt: skip
             evaluation.errors[c] = e
             evaluation.distances[c] = d

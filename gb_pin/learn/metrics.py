@@ -18,12 +18,17 @@ from gb_pin import _validation as check
 from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.body.task import add_component_errors
 from gb_pin.learn.llm_kernels import llm_predict
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyped-def]
+def evaluate_model(targets, limits, body, lm, K, q, x, components):  # type: ignore[no-untyped-def]
     """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10).
+
+    For a stacked task, ``components`` (C,) receives E^X split by component (mean over the
+    targets of ||x*[r_c] - x[r_c]|| / s_c: [m] for positions, [deg] for rotations); it is
+    empty for the paper's position task.
 
     Args:
         targets: (N, n) evaluation targets [m].
@@ -33,12 +38,15 @@ def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyp
         K: prototypes in use.
         q: (m,) scratch.
         x: (n,) scratch.
+        components: (C,) output, E^X per component (C = 0 for the paper's task).
     """
     home, lower, upper = limits
     m = home.shape[0]
     n = targets.shape[1]
     error = 0.0
     distance = 0.0
+    for c in range(components.shape[0]):
+        components[c] = 0.0
     for r in range(targets.shape[0]):
         xs = targets[r]
         llm_predict(xs, lm, K, q)
@@ -54,7 +62,10 @@ def evaluate_model(targets, limits, body, lm, K, q, x):  # type: ignore[no-untyp
             v = xs[j] - x[j]
             e += v * v
         error += math.sqrt(e)
+        add_component_errors(body.task, xs, x, components)
     count = targets.shape[0]
+    for c in range(components.shape[0]):
+        components[c] /= count
     return error / count, distance / count
 
 

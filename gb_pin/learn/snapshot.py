@@ -41,6 +41,7 @@ def state_to_arrays(st: BabbleState) -> dict[str, NDArray[Any]]:
         "schedule": st.schedule,
         "errors": st.errors,
         "distances": st.distances,
+        "components": st.components,
         **st.llm.to_arrays(),
         "noise_A": st.A,
         "noise_b": st.b,
@@ -135,6 +136,12 @@ def _fill(
         raise InvalidArgumentError("schedule must be increasing movement counts >= 0")
     st.errors = _real(arrays, "errors", (T,), finite=False)
     st.distances = _real(arrays, "distances", (T,), finite=False)
+    C = 0 if chain.components is None else chain.components.count
+    # Files written before per-component histories have none: not measured (NaN).
+    fresh_components = np.full((T, C), np.nan)
+    st.components = (
+        _real(arrays, "components", (T, C), finite=False) if "components" in arrays else fresh_components
+    )
     K = np.shape(arrays["prototypes"])[0] if np.ndim(arrays["prototypes"]) == 2 else 0
     st.llm = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate, capacity=max(2 * K, 256))
     if st.llm.n_inputs_ != n or st.llm.n_outputs_ != m:

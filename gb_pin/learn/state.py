@@ -46,6 +46,7 @@ class BabbleState:
         self.schedule: NDArray[np.int64]
         self.errors: NDArray[np.float64]
         self.distances: NDArray[np.float64]
+        self.components: NDArray[np.float64]
         self.llm: LocalLinearMap
         self.A: NDArray[np.float64]
         self.b: NDArray[np.float64]
@@ -96,6 +97,7 @@ class BabbleState:
         st.schedule = _schedule(schedule, movements)
         st.errors = np.full(st.schedule.shape[0], np.nan)
         st.distances = np.full(st.schedule.shape[0], np.nan)
+        st.components = np.full((st.schedule.shape[0], _component_count(st.chain)), np.nan)
         st.goals = make_goals(goals)
         st.goal_state = st.goals.start(st.targets)
         if st.goals.kind == MOTOR and not np.all(np.isfinite(st.home)):
@@ -158,7 +160,9 @@ class BabbleState:
                 )
             base = self.chain
             assert base is not None
-            if (chain.n_joints, chain.n_task) != (base.n_joints, base.n_task):
+            if (chain.n_joints, chain.n_task, _component_count(chain)) != (
+                base.n_joints, base.n_task, _component_count(base)
+            ):  # fmt: skip
                 raise InvalidArgumentError(
                     f"changes[{at}] has {chain.n_joints} joints and {chain.n_task} task axes; the run has "
                     f"{base.n_joints} and {base.n_task}"
@@ -217,7 +221,9 @@ class BabbleState:
         r = self.rec
         recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
         until = -np.inf if self.until_error is None else float(self.until_error)
-        evaluation = layout.Evaluation(self.schedule, self.eval_targets, self.errors, self.distances, until)
+        evaluation = layout.Evaluation(
+            self.schedule, self.eval_targets, self.errors, self.distances, self.components, until
+        )
         return (
             layout.Learner(hyper, self.llm.kernel(), self.llm.scratch(), layout.Noise(self.A, self.b)),
             layout.Robot(layout.Limits(self.home, self.lower, self.upper), body),  # type: ignore[arg-type]
@@ -273,6 +279,7 @@ class BabbleState:
         self.schedule = self.schedule[:c].copy()
         self.errors = self.errors[:c].copy()
         self.distances = self.distances[:c].copy()
+        self.components = self.components[:c].copy()
 
     def _grow_recording(self) -> None:
         grow = max(16, 2 * self.rec["step"].shape[0])
@@ -331,7 +338,10 @@ class BabbleState:
 
     def history(self) -> History:
         """E^X and D^home at the schedule's movement counts (NaN where not reached yet)."""
-        return History(movements=self.schedule, error=self.errors, home_distance=self.distances)
+        components = self.components if self.components.shape[1] else None
+        return History(
+            movements=self.schedule, error=self.errors, home_distance=self.distances, components=components
+        )
 
     def recorded(self) -> RecordedSteps | None:
         """The recorded steps so far, or None if recording was not asked for."""
@@ -343,6 +353,11 @@ class BabbleState:
 
 MAX_RECORD_BYTES = 2 * 2**30
 """The largest recording a run accepts (checked before the run starts; buffers grow as it goes)."""
+
+
+def _component_count(chain: KinematicChain | None) -> int:
+    """Task components C of a stacked task (0: the paper's position task, or no compiled chain)."""
+    return 0 if chain is None or chain.components is None else chain.components.count
 
 
 def _dimensions(kinematics: Any) -> tuple[int, int]:

@@ -100,6 +100,28 @@ def history(
     return moves, out[0], out[1]
 
 
+def components(path: str, arrays: dict[str, Any], count: int) -> NDArray[np.float64] | None:
+    """The history's E^X per task component (T, C) of a stacked task, or None (none recorded).
+
+    Raises:
+        ResultFileError: not (T, C) real numbers, or infinite values.
+    """
+    if "history_components" not in arrays:
+        return None
+    arr = arrays["history_components"]
+    if arr.dtype.kind not in "iuf" or arr.ndim != 2 or arr.shape[0] != count or not 1 <= arr.shape[1] <= 64:
+        raise _fail(
+            path,
+            "history_components",
+            f"{arr.dtype} array of shape {arr.shape}",
+            f"real numbers of shape ({count}, C)",
+        )
+    values = arr.astype(np.float64)
+    if np.any(np.isinf(values)):
+        raise ResultFileError(f"{path}: history_components holds infinite values")
+    return values
+
+
 def targets(path: str, arrays: dict[str, Any], n_task: int) -> NDArray[np.float64]:
     """``arrays["targets"]``: finite, of shape (N, n_task) with N >= 1."""
     arr = real_array(path, arrays, "targets", 2)

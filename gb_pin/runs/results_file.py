@@ -55,10 +55,13 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         meta["robot_source"] = source
     path = check_writable(path, "result file")
     recording = {} if result.recording is None else result.recording.to_arrays()
+    components = result.history.components
+    extra = {} if components is None else {"history_components": components}  # stacked tasks only
     atomic_savez(
         path,
         {
             **recording,
+            **extra,
             "movements": result.history.movements,
             "error": result.history.error,
             "home_distance": result.history.home_distance,
@@ -108,7 +111,8 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             )
         recording = RecordedSteps.from_arrays(arrays, target.n_joints, target.n_task)
         moves, error, home_distance = fields.history(path, arrays)
-        history = History(movements=moves, error=error, home_distance=home_distance)
+        components = fields.components(path, arrays, moves.shape[0])
+        history = History(movements=moves, error=error, home_distance=home_distance, components=components)
         return dict(
             target=target,
             targets=fields.targets(path, arrays, target.n_task),

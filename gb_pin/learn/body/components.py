@@ -248,3 +248,17 @@ def components_forward(task, rot_ws, pos_ws, out):  # type: ignore[no-untyped-de
                 out[row] = s * theta
                 out[row + 1] = 0.0
         row += task.component_sizes[c]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def component_errors_into(task, target, reached, acc):  # type: ignore[no-untyped-def]
+    """Add ||x*[r_c] - x[r_c]|| / s_c of every component c to ``acc[c]`` ([m]; [deg] for rotations)."""
+    row = 0
+    for c in range(task.component_kinds.shape[0]):
+        e = 0.0
+        for j in range(row, row + task.component_sizes[c]):
+            v = target[j] - reached[j]
+            e += v * v
+        e = math.sqrt(e) / task.component_scales[c]
+        acc[c] += e if task.component_kinds[c] == POSITION else e * (180.0 / math.pi)
+        row += task.component_sizes[c]

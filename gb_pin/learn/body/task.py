@@ -23,7 +23,7 @@ from numba.extending import overload
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
-from gb_pin.learn.body.components import TaskComponents, components_forward
+from gb_pin.learn.body.components import TaskComponents, component_errors_into, components_forward
 
 FRAME_POSITION = 0
 STACKED = 1
@@ -158,3 +158,18 @@ def _frame_position(task, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
     else:
         for a in range(axes.shape[0]):
             out[a] = t[axes[a]]
+
+
+def add_component_errors(task: Any, target: Any, reached: Any, acc: Any) -> None:
+    """Add each component's error ||x*[r_c] - x[r_c]|| / s_c to ``acc`` (C,): [m], or [deg] for rotations.
+
+    A no-op for the paper's position task (its one component is E^X itself). Compiled code only.
+    """
+    raise TypeError("add_component_errors runs inside compiled code")
+
+
+@overload(add_component_errors, jit_options={"nogil": True, "error_model": "numpy"})
+def _add_component_errors(task, target, reached, acc):  # type: ignore[no-untyped-def]
+    if isinstance(task, types.BaseNamedTuple) and task.instance_class is StackedTaskArrays:
+        return lambda task, target, reached, acc: component_errors_into(task, target, reached, acc)
+    return lambda task, target, reached, acc: None
