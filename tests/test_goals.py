@@ -264,3 +264,15 @@ def test_cli_goal_options(tmp_path, capsys) -> None:  # type: ignore[no-untyped-
     ):
         assert main(["babble", "--robot", "planar5", "--movements", "5", *argv]) != 0
         assert message in capsys.readouterr().err
+
+
+def test_results_record_the_goal_generator_and_the_goal_set(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    r = gb_pin.babble("planar5", movements=30, seed=0, goals="progress", eval_targets=GRID6)
+    assert r.goals == repr(make_goals("progress")) and r.targets.shape == (36, 2)
+    assert r.goal_targets is not None and r.goal_targets.shape == (25, 2)  # the preset's X*
+    r.save(tmp_path / "run.npz")
+    back = gb_pin.load_result(tmp_path / "run.npz")
+    assert back.goals == r.goals and np.array_equal(back.goal_targets, r.goal_targets)
+    paper = gb_pin.babble("planar5", movements=5, seed=0)
+    assert paper.goals is None and paper.goal_targets is None  # the paper's: nothing new recorded
+    assert gb_pin.babble("planar5", movements=5, goals="directions", eval_targets=GRID6).goal_targets is None

@@ -26,7 +26,7 @@ from gb_pin.robot.function import FunctionTarget
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs import setup
-from gb_pin.runs.result import BabbleResult
+from gb_pin.runs.result import BabbleResult, goal_fields
 
 
 def warmup() -> float:
@@ -333,4 +333,5 @@ class _Runner:
             wall_time=self.wall(),
             recording=learner.recording_,
             state=state,
+            **goal_fields(state),
         )

@@ -122,9 +122,19 @@ def components(path: str, arrays: dict[str, Any], count: int) -> NDArray[np.floa
     return values
 
 
-def targets(path: str, arrays: dict[str, Any], n_task: int) -> NDArray[np.float64]:
-    """``arrays["targets"]``: finite, of shape (N, n_task) with N >= 1."""
-    arr = real_array(path, arrays, "targets", 2)
+def targets(path: str, arrays: dict[str, Any], n_task: int, key: str = "targets") -> NDArray[np.float64]:
+    """``arrays[key]``: finite, of shape (N, n_task) with N >= 1."""
+    arr = real_array(path, arrays, key, 2)
     if arr.shape[0] < 1 or arr.shape[1] != n_task:
-        raise _fail(path, "targets", f"shape {arr.shape}", f"of shape (N >= 1, {n_task})")
+        raise _fail(path, key, f"shape {arr.shape}", f"of shape (N >= 1, {n_task})")
     return arr
+
+
+def goals(path: str, meta: dict[str, Any]) -> str | None:
+    """``meta["goals"]``: the goal generator's description (printable, <= 200 characters), or None."""
+    value = meta.get("goals")
+    if value is None:
+        return None
+    if not isinstance(value, str) or len(value) > 200 or not value.isprintable():
+        raise ResultFileError(f"{path}: goals must be a short text, got {str(value)[:80]!r}")
+    return value

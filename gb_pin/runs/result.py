@@ -38,6 +38,10 @@ class BabbleResult:
         recording: the recorded steps, if ``record`` was given.
         state: the run's final :class:`~gb_pin.learn.state.BabbleState` (map, noise, random
             stream, posture), for ``babble(..., init=result)``; None for results read from files.
+        goals: the goal generator, e.g. ``"DirectionGoals(distance=0.2, snap=0.05)"``; None for
+            the paper's uniform choice.
+        goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
+            (the test set, ``eval_targets=``); None when they are the same set.
     """
 
     target: KinematicTarget
@@ -52,6 +56,8 @@ class BabbleResult:
     wall_time: float
     recording: RecordedSteps | None = None
     state: BabbleState | None = field(default=None, repr=False)
+    goals: str | None = None
+    goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
 
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
@@ -182,3 +188,17 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             robot that cannot be rebuilt (the message says what was recorded and how to pass it).
     """
     return BabbleResult.load(path, target)
+
+
+def goal_fields(state: BabbleState) -> dict[str, Any]:
+    """``goals`` and ``goal_targets`` of a result from its run's state (None for the paper's defaults)."""
+    from gb_pin.learn.goals import UniformGoals
+
+    default = (
+        isinstance(state.goals, UniformGoals) and state.goals.get_params() == UniformGoals().get_params()
+    )
+    same = state.targets is state.eval_targets or np.array_equal(state.targets, state.eval_targets)
+    return {
+        "goals": None if default else repr(state.goals),
+        "goal_targets": None if same or not state.goals.needs_targets else state.targets,
+    }

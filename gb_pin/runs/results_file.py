@@ -57,6 +57,10 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     recording = {} if result.recording is None else result.recording.to_arrays()
     components = result.history.components
     extra = {} if components is None else {"history_components": components}  # stacked tasks only
+    if result.goal_targets is not None:  # a goal set other than the test set
+        extra["goal_targets"] = result.goal_targets
+    if result.goals is not None:  # a goal generator other than the paper's
+        meta["goals"] = result.goals
     atomic_savez(
         path,
         {
@@ -125,6 +129,10 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             steps=steps,
             wall_time=wall_time,
             recording=recording,
+            goals=fields.goals(path, meta),
+            goal_targets=fields.targets(path, arrays, target.n_task, "goal_targets")
+            if "goal_targets" in arrays
+            else None,
         )
     except GbPinError as exc:
         if isinstance(exc, ResultFileError):

@@ -31,7 +31,7 @@ from gb_pin.learn.history import Recording
 from gb_pin.learn.learner import GoalBabbling
 from gb_pin.robot.function import FunctionTarget
 from gb_pin.runs import setup
-from gb_pin.runs.result import BabbleResult
+from gb_pin.runs.result import BabbleResult, goal_fields
 
 
 class BabbleSession:
@@ -156,6 +156,7 @@ class BabbleSession:
             wall_time=self.wall_time,
             recording=learner.recording_,
             state=self.state,
+            **goal_fields(self.state),
         )
 
 
