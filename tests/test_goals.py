@@ -276,3 +276,21 @@ def test_results_record_the_goal_generator_and_the_goal_set(tmp_path) -> None:  
     paper = gb_pin.babble("planar5", movements=5, seed=0)
     assert paper.goals is None and paper.goal_targets is None  # the paper's: nothing new recorded
     assert gb_pin.babble("planar5", movements=5, goals="directions", eval_targets=GRID6).goal_targets is None
+
+
+def test_viewer_pages_draw_the_goal_set_beside_the_test_set(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from gb_pin.viewer import export_model
+    from gb_pin.viewer.legend import legend_items
+
+    assert not any("goal set" in text for _, _, text in legend_items(False))
+    assert any("goal set" in text for _, _, text in legend_items(False, goal_set=True))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the oversized set lies partly beyond reach, on purpose
+        r = gb_pin.babble(
+            "planar5", movements=20, seed=0, goals="progress", targets=OVERSIZED, eval_targets=GRID6
+        )
+    export_model(r, tmp_path / "page.html")
+    page = (tmp_path / "page.html").read_text()
+    assert "goal set: the goals come from here" in page  # the legend; the points are encoded commands
+    export_model(gb_pin.babble("planar5", movements=5, seed=0), tmp_path / "paper.html")
+    assert "goal set: the goals come from here" not in (tmp_path / "paper.html").read_text()

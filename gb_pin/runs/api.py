@@ -149,7 +149,7 @@ def babble(
         goals=goals, changes=changes, init=init, until_error=until_error,
     )  # fmt: skip
     runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
-    observer = _attach(viewer, target, X)
+    observer = _attach(viewer, target, learner.state_.eval_targets)  # the test set; the goal set on the way
     with checkpoint_lock(checkpoint), _deferred_sigint(enabled=checkpoint is not None) as interrupted:
         learner.resume(
             movements,
@@ -219,7 +219,7 @@ def resume(
     learner = GoalBabbling.from_config(info.config)
     learner.state_ = state
     runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)
-    observer = _attach(viewer, robot, state.targets)
+    observer = _attach(viewer, robot, state.eval_targets)
     with checkpoint_lock(checkpoint), _deferred_sigint(enabled=True) as interrupted:
         learner.resume(
             info.movements,

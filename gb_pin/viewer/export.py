@@ -78,7 +78,14 @@ def export_model(
     from gb_pin.viewer.scene import Scene
 
     window = OfflineWindow()
-    scene = Scene(window, result.target, result.targets, trail=0, visual_model=visual_model)
+    scene = Scene(
+        window,
+        result.target,
+        result.targets,
+        trail=0,
+        visual_model=visual_model,
+        goal_targets=result.goal_targets,
+    )
     scene.draw_static()
     scene.show_model(result.model.predict(scene.targets, warn=False), few=few)
     scene.label(

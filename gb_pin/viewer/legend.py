@@ -18,6 +18,7 @@ from typing import Any
 
 from gb_pin.viewer.style import (
     EFFECTOR_COLOR,
+    GOAL_SET_COLOR,
     LINK_COLOR,
     POSTURE_COLOR,
     REACHED_COLOR,
@@ -47,6 +48,7 @@ class Legend:
         status: the run's state (``movement r 300 | E^X 0.0123 m | D^home 0.45 rad``), "" if none yet.
         overlay_note: why the learned model's overlay is shown or hidden (e.g. in a replay).
         meshes: the robot is drawn by its meshes (else a stick figure).
+        goal_set: a goal set other than the test set is drawn too.
     """
 
     robot: str
@@ -54,6 +56,7 @@ class Legend:
     status: str = ""
     overlay_note: str = ""
     meshes: bool = False
+    goal_set: bool = False
 
 
 def status_line(
@@ -91,7 +94,7 @@ def _swatch(color: int, shape: str) -> str:
     )
 
 
-def legend_items(meshes: bool) -> list[tuple[int, str, str]]:
+def legend_items(meshes: bool, goal_set: bool = False) -> list[tuple[int, str, str]]:
     """(colour, swatch shape, meaning) of every part drawn (:mod:`~gb_pin.viewer.style`)."""
     robot: list[tuple[int, str, str]] = [
         (LINK_COLOR, "box", "the robot's links (joints dark, effector red)"),
@@ -100,7 +103,18 @@ def legend_items(meshes: bool) -> list[tuple[int, str, str]]:
         robot = [(0xBBBBBB, "box", "the robot's meshes, in their own colours")]
     return [
         *robot,
-        (TARGET_SET_COLOR, "dot", "target set X<sup>*</sup> (grey points and grid)"),
+        (
+            TARGET_SET_COLOR,
+            "dot",
+            "target set X<sup>*</sup> (grey points and grid)"
+            if not goal_set
+            else "test set: E<sup>X</sup> is measured here (grey points and grid)",
+        ),
+        *(
+            [(GOAL_SET_COLOR, "dot", "goal set: the goals come from here (pink points)")]
+            if goal_set
+            else []
+        ),
         (TARGET_COLOR, "dot", "current goal x<sup>*</sup><sub>t</sub>"),
         (EFFECTOR_COLOR, "dot", "reached positions, fading (the trail)"),
         (REACHED_COLOR, "line", "learned model: where g(x<sup>*</sup>) reaches, f(g(x<sup>*</sup>))"),
@@ -111,7 +125,9 @@ def legend_items(meshes: bool) -> list[tuple[int, str, str]]:
 
 def legend_html(legend: Legend) -> str:
     """The box as one HTML element (text escaped; the status line is gb_pin's own markup)."""
-    rows = "".join(f"<div>{_swatch(c, s)}{text}</div>" for c, s, text in legend_items(legend.meshes))
+    rows = "".join(
+        f"<div>{_swatch(c, s)}{text}</div>" for c, s, text in legend_items(legend.meshes, legend.goal_set)
+    )
     parts = [f'<div style="font-weight:bold;font-size:13px">{html.escape(legend.robot)}</div>']
     if legend.details:
         parts.append(f'<div style="color:#555">{html.escape(legend.details)}</div>')

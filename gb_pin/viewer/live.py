@@ -131,6 +131,13 @@ class Viewer:
 
     def _draw(self, state: BabbleState, now: float, force_overlay: bool = False) -> None:
         scene = self._scene()
+        if (
+            scene.goal_targets is None
+            and state.goals.needs_targets
+            and not np.array_equal(state.targets, scene.targets)
+        ):
+            scene.draw_goal_set(state.targets)  # goals from another set than the test set (eval_targets)
+            scene.label()
         self._last_frame = now
         scene.pose(state.posture, state.target, state.position)
         self.frames += 1

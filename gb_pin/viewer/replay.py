@@ -74,7 +74,10 @@ def replay_window(
     from gb_pin.viewer.scene import Scene  # the drawing loads meshcat
 
     recording = recorded_steps(result, movements)
-    scene = Scene(window, result.target, result.targets, trail=trail, visual_model=visual_model)
+    scene = Scene(
+        window, result.target, result.targets, trail=trail, visual_model=visual_model,
+        goal_targets=result.goal_targets,
+    )  # fmt: skip
     scene.draw_static()
     draw_replay(scene, result, recording, speed)
     return scene

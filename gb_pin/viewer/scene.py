@@ -24,7 +24,7 @@ from gb_pin.viewer.geometry import Transforms, spread_indices, translation
 from gb_pin.viewer.legend import Legend, legend_command, remove_control
 from gb_pin.viewer.markers import Markers, draw_target_set
 from gb_pin.viewer.overlay import draw_overlay
-from gb_pin.viewer.style import BACKGROUND_BOTTOM, BACKGROUND_TOP, CAMERA_FOV, ROOT
+from gb_pin.viewer.style import BACKGROUND_BOTTOM, BACKGROUND_TOP, CAMERA_FOV, GOAL_SET, GOAL_SET_COLOR, ROOT
 from gb_pin.viewer.task_markers import TaskLayout, draw_task
 
 if TYPE_CHECKING:
@@ -42,6 +42,7 @@ class Scene:
         trail: number of trail spheres (past reached positions).
         visual_model: optional ``pin.GeometryModel`` to draw meshes (see
             :func:`~gb_pin.viewer.figure.make_figure`).
+        goal_targets: (M, n) the goal set, when it is not ``targets`` (drawn in pink).
     """
 
     def __init__(
@@ -52,8 +53,13 @@ class Scene:
         *,
         trail: int = 16,
         visual_model: Any | None = None,
+        goal_targets: ArrayLike | None = None,
     ) -> None:
         self.window = window
+        # The goal set, drawn when the goals come from another set than ``targets`` (the test set).
+        self.goal_targets = (
+            None if goal_targets is None else np.atleast_2d(np.asarray(goal_targets, dtype=float))
+        )
         self.target = target
         self.targets = np.atleast_2d(np.asarray(targets, dtype=float))
         self.figure = make_figure(target, visual_model)
@@ -83,8 +89,15 @@ class Scene:
 
     def _bounds(self) -> tuple[NDArray[np.float64], float]:
         others = [self.targets[:, rows] for rows in self.layout.others]
+        goals = [] if self.goal_targets is None else [self.embed(self.goal_targets)]
         pts = np.vstack(
-            [self.figure.skeleton(self.target.home), self.embed(self.targets), *others, np.zeros((1, 3))]
+            [
+                self.figure.skeleton(self.target.home),
+                self.embed(self.targets),
+                *others,
+                *goals,
+                np.zeros((1, 3)),
+            ]
         )
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         return (lo + hi) / 2.0, float(max(np.max(hi - lo) / 2.0, 0.1 * self.figure.size))
@@ -126,8 +139,18 @@ class Scene:
         )
         if self.layout.stacked:
             draw_task(w, self.layout, self.targets, self.figure.size, reached=False, offset=self._below())
+        if self.goal_targets is not None:
+            self.draw_goal_set(self.goal_targets)
         self.pose(self.target.home, None, None)
         self.label()
+
+    def draw_goal_set(self, goal_targets: ArrayLike) -> None:
+        """Draw the goal set (pink points) beside the test set ``targets`` (grey)."""
+        self.goal_targets = np.atleast_2d(np.asarray(goal_targets, dtype=float))
+        points = self.embed(self.goal_targets) + self._below()
+        self.window.send(
+            shapes.points(f"{GOAL_SET}/points", points, GOAL_SET_COLOR, 0.012 * self.figure.size)
+        )
 
     def label(self, status: str = "", overlay_note: str = "") -> None:
         """Draw the legend box over the view: robot, ``status`` (movement, E^X, D^home), colours.
@@ -142,7 +165,9 @@ class Scene:
             details = f"{self.target.n_joints} joints, task: {'; '.join(self.target.component_labels)}"
             details += self.layout.note
         meshes = type(self.figure).__name__ == "MeshFigure"
-        legend = Legend(self.target.name, details, status, overlay_note, meshes)
+        legend = Legend(
+            self.target.name, details, status, overlay_note, meshes, self.goal_targets is not None
+        )
         self.window.send(legend_command(legend))
         self.window.send(remove_control())
 
