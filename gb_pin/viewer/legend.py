@@ -110,11 +110,7 @@ def legend_items(meshes: bool, goal_set: bool = False) -> list[tuple[int, str, s
             if not goal_set
             else "test set: E<sup>X</sup> is measured here (grey points and grid)",
         ),
-        *(
-            [(GOAL_SET_COLOR, "dot", "goal set: the goals come from here (pink points)")]
-            if goal_set
-            else []
-        ),
+        *([(GOAL_SET_COLOR, "dot", "goal set: the goals come from here (pink points)")] if goal_set else []),
         (TARGET_COLOR, "dot", "current goal x<sup>*</sup><sub>t</sub>"),
         (EFFECTOR_COLOR, "dot", "reached positions, fading (the trail)"),
         (REACHED_COLOR, "line", "learned model: where g(x<sup>*</sup>) reaches, f(g(x<sup>*</sup>))"),
