@@ -330,3 +330,21 @@ def test_auto_targets_of_a_custom_pose_target(presets: dict[str, KinematicTarget
     np.testing.assert_allclose(X[:, 3:], 0.0, atol=1e-15)
     assert check_reachable(target, X).reachable.all()
     assert np.ptp(X[:, 0]) > 0.05
+
+
+def test_trials_keep_the_component_curves(tmp_path: Path) -> None:
+    """Trials of a stacked task keep E^X per component (trials, T, C), in files and journals too."""
+    journal = tmp_path / "journal.jsonl"
+    ts = gb_pin.run_trials("talos_left_arm_pose", trials=2, movements=10, workers=1, checkpoint=journal)
+    assert ts.components is not None and ts.components.shape == (2, ts.movements.size, 2)
+    one = gb_pin.babble("talos_left_arm_pose", movements=10, seed=1, schedule=ts.movements)
+    assert one.history.components is not None
+    np.testing.assert_array_equal(ts.components[1], one.history.components)
+    ts.save(tmp_path / "trials.json")
+    back = gb_pin.TrialSet.load(tmp_path / "trials.json")
+    assert back.components is not None and np.array_equal(back.components, ts.components)
+    again = gb_pin.run_trials("talos_left_arm_pose", trials=2, movements=10, workers=1, checkpoint=journal)
+    assert again.components is not None and np.array_equal(
+        again.components, ts.components
+    )  # from the journal
+    assert gb_pin.run_trials("planar5", trials=1, movements=5, workers=1).components is None

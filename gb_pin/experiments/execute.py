@@ -33,13 +33,14 @@ from gb_pin.runs.api import babble
 def run_one_trial(
     robot: str, movements: int, seed: int, schedule: NDArray[np.int64], kwargs: dict[str, Any]
 ) -> TrialOutput:
-    """One trial, as a worker runs it: (E^X, D^home at ``schedule``, prototypes).
+    """One trial, as a worker runs it: (E^X, D^home at ``schedule``, prototypes, E^X per component or None).
 
     Module-level and fed only plain values, so that a process pool or a Dask worker
     receives the robot's name, never a model.
     """
     result = babble(robot=robot, movements=movements, seed=seed, schedule=schedule, **kwargs)
-    return result.history.error, result.history.home_distance, result.n_prototypes
+    h = result.history
+    return h.error, h.home_distance, result.n_prototypes, h.components
 
 
 def run_trial_batch(tasks: list[TrialTask]) -> list[TrialOutput]:
@@ -251,6 +252,7 @@ def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSe
         # E_0 is the same for every trial (the estimate starts constant at q_home).
         initial_error=float(error[0, 0]),
         prototypes=np.array([o[2] for o in outputs], dtype=np.int64),
+        components=None if any(o[3] is None for o in outputs) else np.array([o[3] for o in outputs]),
     )
 
 

@@ -22,8 +22,9 @@ from gb_pin.experiments._json import check_size, plain
 
 # What one trial needs: (robot name, movements, seed, movement counts to record, babble arguments).
 TrialTask = tuple[str, int, int, NDArray[np.int64], dict[str, Any]]
-# What one trial gives: (E^X at the schedule, D^home at the schedule, prototypes at the end).
-TrialOutput = tuple[NDArray[np.float64], NDArray[np.float64], int]
+# What one trial gives: (E^X at the schedule, D^home at the schedule, prototypes at the end, E^X per
+# task component at the schedule (T, C) for a stacked task, else None).
+TrialOutput = tuple[NDArray[np.float64], NDArray[np.float64], int, NDArray[np.float64] | None]
 
 
 class TrialJournal:
@@ -96,9 +97,15 @@ class TrialJournal:
         """Append one finished trial durably (one line, flushed and fsynced)."""
         k = self.key(task)
         self.done[k] = out
-        line = json.dumps(
-            {"key": k, "error": out[0].tolist(), "home_distance": out[1].tolist(), "prototypes": int(out[2])}
-        )
+        entry = {
+            "key": k,
+            "error": out[0].tolist(),
+            "home_distance": out[1].tolist(),
+            "prototypes": int(out[2]),
+        }
+        if out[3] is not None:
+            entry["components"] = out[3].tolist()
+        line = json.dumps(entry)
         with open(self.path, "a", encoding="utf-8") as fh:
             fh.write(line + "\n")
             fh.flush()
@@ -126,4 +133,15 @@ def _output(entry: Any) -> TrialOutput:
         raise ValueError("prototypes is not a count")
     if curves[0].shape != curves[1].shape or np.any(np.isinf(curves[0])) or np.any(np.isinf(curves[1])):
         raise ValueError("curves of different lengths or infinite")
-    return curves[0], curves[1], prototypes
+    components = None
+    if entry.get("components") is not None:  # journals written before per-component curves have none
+        rows = entry["components"]
+        if not isinstance(rows, list) or len(rows) != curves[0].shape[0]:
+            raise ValueError("components is not one row per recorded count")
+        flat = [v for row in rows for v in (row if isinstance(row, list) else [None, "bad"])]
+        if not all(v is None or (isinstance(v, int | float) and not isinstance(v, bool)) for v in flat):
+            raise ValueError("components is not a table of numbers")
+        components = np.array([[np.nan if v is None else v for v in row] for row in rows], dtype=float)
+        if components.ndim != 2 or not 1 <= components.shape[1] <= 64 or np.any(np.isinf(components)):
+            raise ValueError("components is not a (T, C) table of finite numbers")
+    return curves[0], curves[1], prototypes, components

@@ -36,6 +36,8 @@ class TrialSet:
         home_distance: (trials, T) D^home (Eq. 10) [rad].
         initial_error: E_0, the error of the initial constant estimate q_home [m].
         prototypes: (trials,) prototypes at the end of each trial.
+        components: (trials, T, C) E^X per task component of a stacked task ([m] for positions,
+            [deg] for rotations; :mod:`gb_pin.learn.component_metrics`), None for the paper's task.
     """
 
     robot: str
@@ -46,6 +48,7 @@ class TrialSet:
     home_distance: NDArray[np.float64]
     initial_error: float
     prototypes: NDArray[np.int64]
+    components: NDArray[np.float64] | None = None
 
     @property
     def trials(self) -> int:
@@ -99,6 +102,7 @@ class TrialSet:
             "home_distance": self.home_distance.tolist(),
             "initial_error": self.initial_error,
             "prototypes": self.prototypes.tolist(),
+            **({} if self.components is None else {"components": self.components.tolist()}),
         }
 
     @classmethod
@@ -121,6 +125,9 @@ class TrialSet:
                 home_distance=np.array(raw["home_distance"], dtype=float, ndmin=2),
                 initial_error=float(raw["initial_error"]),
                 prototypes=np.array(raw["prototypes"], dtype=np.int64),
+                components=None
+                if raw.get("components") is None
+                else np.array(raw["components"], dtype=float),
             )
         except (KeyError, TypeError, ValueError) as exc:
             raise ResultFileError(f"{source}: malformed trials file ({exc!r})") from exc
@@ -129,11 +136,19 @@ class TrialSet:
             out.error.shape != out.home_distance.shape
             or out.movements.shape != (points,)
             or out.prototypes.shape != (trials,)
+            or (
+                out.components is not None
+                and (out.components.ndim != 3 or out.components.shape[:2] != (trials, points))
+            )
         ):
             raise ResultFileError(f"{source}: arrays of inconsistent shapes")
         if out.movements.size and (out.movements[0] < 0 or np.any(np.diff(out.movements) <= 0)):
             raise ResultFileError(f"{source}: movements must be increasing counts >= 0")
-        if np.any(np.isinf(out.error)) or np.any(np.isinf(out.home_distance)):
+        if (
+            np.any(np.isinf(out.error))
+            or np.any(np.isinf(out.home_distance))
+            or (out.components is not None and np.any(np.isinf(out.components)))
+        ):
             raise ResultFileError(f"{source}: infinite E^X or D^home")
         return out
 
@@ -199,6 +214,7 @@ def _check_fields(raw: dict[str, Any], source: str) -> None:
     }
     for key in ("movements", "error", "home_distance", "prototypes"):
         problems[key] = not isinstance(raw.get(key), list)
+    problems["components"] = raw.get("components") is not None and not isinstance(raw["components"], list)
     wrong = [k for k, bad in problems.items() if bad]
     if wrong:
         raise ResultFileError(f"{source}: malformed trials file (bad {', '.join(wrong)})")
