@@ -107,6 +107,10 @@ def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
 
     Returns:
         MOVEMENT_DONE when the step completed the movement, else STEP_DONE.
+
+    The operations are the loop's (``_movement``), written out again: the loop takes its arrays
+    out of their structures once per movement, which a shared per-step helper would not allow
+    at the same cost; tests/test_session.py holds both equal bit for bit.
     """
     counters = run.counters
     mo = run.motion

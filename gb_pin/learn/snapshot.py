@@ -136,7 +136,7 @@ def _fill(
         raise InvalidArgumentError("schedule must be increasing movement counts >= 0")
     st.errors = _real(arrays, "errors", (T,), finite=False)
     st.distances = _real(arrays, "distances", (T,), finite=False)
-    C = 0 if chain.components is None else chain.components.count
+    C = chain.n_components
     # Files written before per-component histories have none: not measured (NaN).
     fresh_components = np.full((T, C), np.nan)
     st.components = (

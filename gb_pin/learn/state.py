@@ -15,7 +15,7 @@ from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.exploration import noise_init
 from gb_pin.learn.goals import GoalGenerator, PythonGoals, make_goals
-from gb_pin.learn.goals.base import MOTOR, GoalState
+from gb_pin.learn.goals.base import GoalArrays
 from gb_pin.learn.history import History, RecordedSteps, Recording
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.loop import babble_loop
@@ -55,7 +55,7 @@ class BabbleState:
         self.record: tuple[int, int, int]
         self.rec: dict[str, NDArray[Any]]
         self.goals: GoalGenerator
-        self.goal_state: GoalState
+        self.goal_state: GoalArrays
         self.changes: list[tuple[int, KinematicChain]] = []
         self.until_error: float | None = None
 
@@ -97,11 +97,10 @@ class BabbleState:
         st.schedule = _schedule(schedule, movements)
         st.errors = np.full(st.schedule.shape[0], np.nan)
         st.distances = np.full(st.schedule.shape[0], np.nan)
-        st.components = np.full((st.schedule.shape[0], _component_count(st.chain)), np.nan)
+        C = 0 if st.chain is None else st.chain.n_components  # no chain: a Python forward model
+        st.components = np.full((st.schedule.shape[0], C), np.nan)
         st.goals = make_goals(goals)
         st.goal_state = st.goals.start(st.targets)
-        if st.goals.kind == MOTOR and not np.all(np.isfinite(st.home)):
-            raise InvalidArgumentError("motor babbling needs a finite home posture")
         st.set_changes(changes or {})
 
         x_home = (
@@ -160,8 +159,8 @@ class BabbleState:
                 )
             base = self.chain
             assert base is not None
-            if (chain.n_joints, chain.n_task, _component_count(chain)) != (
-                base.n_joints, base.n_task, _component_count(base)
+            if (chain.n_joints, chain.n_task, chain.n_components) != (
+                base.n_joints, base.n_task, base.n_components
             ):  # fmt: skip
                 raise InvalidArgumentError(
                     f"changes[{at}] has {chain.n_joints} joints and {chain.n_task} task axes; the run has "
@@ -353,11 +352,6 @@ class BabbleState:
 
 MAX_RECORD_BYTES = 2 * 2**30
 """The largest recording a run accepts (checked before the run starts; buffers grow as it goes)."""
-
-
-def _component_count(chain: KinematicChain | None) -> int:
-    """Task components C of a stacked task (0: the paper's position task, or no compiled chain)."""
-    return 0 if chain is None or chain.components is None else chain.components.count
 
 
 def _dimensions(kinematics: Any) -> tuple[int, int]:

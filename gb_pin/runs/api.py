@@ -122,13 +122,11 @@ def babble(
         InvalidArgumentError: any other bad argument.
         DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
-    target, name, defaults = setup.resolve_robot(robot)
-    movements = check.movements("movements", movements, minimum=1)
-    X = setup.target_set(target, targets)  # checked; warns about targets beyond reach
     given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
              "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
-    learner = setup.make_learner(defaults, given)
-    rng, int_seed = setup.generator(seed, init)
+    target, name, movements, X, learner, rng, int_seed = setup.prepare(
+        robot, movements, seed, given, targets, init
+    )
     if checkpoint_every is not None:
         check.positive_int("checkpoint_every", checkpoint_every)
     setup.check_hooks(callback=callback, viewer=viewer, record=record)

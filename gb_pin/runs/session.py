@@ -191,13 +191,11 @@ def babble_session(
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: any other bad argument.
     """
-    target, name, defaults = setup.resolve_robot(robot)
-    movements = check.movements("movements", movements, minimum=1)
-    X = setup.target_set(target, targets)
     given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
              "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
-    learner = setup.make_learner(defaults, given)
-    rng, int_seed = setup.generator(seed, init)
+    target, name, movements, X, learner, rng, int_seed = setup.prepare(
+        robot, movements, seed, given, targets, init
+    )
     setup.check_hooks(record=record)
     if checkpoint is not None:
         check_writable(checkpoint, "checkpoint")

@@ -185,3 +185,23 @@ def generator(seed: Any, init: Any | None = None) -> tuple[np.random.Generator, 
             )
         return rng, getattr(init, "seed", None)
     return rng, None if isinstance(seed, np.random.Generator) else int(seed)
+
+
+def prepare(
+    robot: Any, movements: Any, seed: Any, given: dict[str, Any], targets: ArrayLike | None, init: Any | None
+) -> tuple[Target, str | None, int, NDArray[np.float64], GoalBabbling, np.random.Generator, int | None]:
+    """What ``babble()`` and ``babble_session()`` check and build first, in this order.
+
+    Returns:
+        (target, preset name or None, movements, goal set X*, learner, generator, int seed or None).
+
+    Raises:
+        UnknownRobotError: unknown preset name.
+        InvalidArgumentError: a bad robot, movement count, target set, hyperparameter or seed.
+    """
+    target, name, defaults = resolve_robot(robot)
+    movements = check.movements("movements", movements, minimum=1)
+    X = target_set(target, targets)  # checked; warns about targets beyond reach
+    learner = make_learner(defaults, given)
+    rng, int_seed = generator(seed, init)
+    return target, name, movements, X, learner, rng, int_seed

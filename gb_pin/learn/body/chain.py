@@ -106,6 +106,11 @@ class KinematicChain:
         return int(self.task_axes.shape[0])
 
     @property
+    def n_components(self) -> int:
+        """Task components C of a stacked task (0 for the paper's position task)."""
+        return 0 if self.components is None else self.components.count
+
+    @property
     def joints(self) -> Joints:
         """The kinematic tree as arrays."""
         return Joints(self.parents, self.rotations, self.translations, self.axes, self.kinds, self.q_index)

@@ -77,10 +77,6 @@ class MotorArrays(GoalArrays):
     __slots__ = ()
 
 
-GoalState = GoalArrays
-"""Any generator's arrays: :class:`GoalArrays` or one of its subclasses above."""
-
-
 def snap_threshold(snap: Any) -> float:
     """``snap`` as a float: None or inf is off, else a number >= 0 [task units].
 
@@ -122,14 +118,14 @@ class GoalGenerator(ABC):
         """The parameters as the compiled loop reads them (``[snap, ...]``)."""
         return np.array([self.snap], dtype=np.float64)
 
-    def start(self, targets: NDArray[np.float64]) -> GoalState:
+    def start(self, targets: NDArray[np.float64]) -> GoalArrays:
         """The state at movement 0 for goal set ``targets`` (N, n)."""
-        arrays: GoalState = self.arrays_class(
+        arrays: GoalArrays = self.arrays_class(
             self.kind, targets, self.param_array(), np.zeros(1, dtype=np.int64), np.zeros(1)
         )
         return arrays
 
-    def check_state(self, state: GoalState) -> None:
+    def check_state(self, state: GoalArrays) -> None:
         """Refuse a state (read from a file) that compiled code could not use safely.
 
         Raises:
@@ -154,5 +150,5 @@ class PythonGoals(GoalGenerator):
     kind: ClassVar[int] = EXTERNAL
 
     @abstractmethod
-    def next_goal(self, state: GoalState, rng: np.random.Generator) -> ArrayLike:
+    def next_goal(self, state: GoalArrays, rng: np.random.Generator) -> ArrayLike:
         """The next goal (n,) [m]; may update ``state.istate`` / ``state.fstate`` in place."""

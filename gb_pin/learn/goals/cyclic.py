@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.learn.goals.base import CYCLIC, GoalArrays, GoalGenerator, GoalState, snap_threshold
+from gb_pin.learn.goals.base import CYCLIC, GoalArrays, GoalGenerator, snap_threshold
 
 
 class CyclicGoals(GoalGenerator):
@@ -31,12 +31,12 @@ class CyclicGoals(GoalGenerator):
         """``{"start": ..., "snap": ...}``."""
         return {"start": self.start_index, **super().get_params()}
 
-    def check_state(self, state: GoalState) -> None:
+    def check_state(self, state: GoalArrays) -> None:
         """The next index must be a target's."""
         if not 0 <= int(state.istate[0]) < state.targets.shape[0]:
             raise InvalidArgumentError(f"cyclic goals: next index {int(state.istate[0])} out of range")
 
-    def start(self, targets: NDArray[np.float64]) -> GoalState:
+    def start(self, targets: NDArray[np.float64]) -> GoalArrays:
         """The first goal is target ``start`` (modulo the number of targets)."""
         istate = np.array([self.start_index % targets.shape[0]], dtype=np.int64)
         return GoalArrays(self.kind, targets, self.param_array(), istate, np.zeros(1))

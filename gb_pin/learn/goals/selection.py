@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.learn.goals.base import GoalGenerator, GoalState, SelectorArrays, snap_threshold
+from gb_pin.learn.goals.base import GoalArrays, GoalGenerator, SelectorArrays, snap_threshold
 
 # params of the selectors: [snap, uniform_share, rate]
 SHARE = 1
@@ -46,13 +46,13 @@ class GoalSetSelector(GoalGenerator):
         """``[snap, uniform_share, rate]``."""
         return np.array([self.snap, self.uniform_share, self.rate], dtype=np.float64)
 
-    def check_state(self, state: GoalState) -> None:
+    def check_state(self, state: GoalArrays) -> None:
         """The last index must be -1 or a target's, the visit counts >= 0."""
         N = state.targets.shape[0]
         if not -1 <= int(state.istate[LAST]) < N or np.any(state.istate[1:] < 0):
             raise InvalidArgumentError(f"{self.name} goals: corrupted state (index or visit counts)")
 
-    def start(self, targets: NDArray[np.float64]) -> GoalState:
+    def start(self, targets: NDArray[np.float64]) -> GoalArrays:
         """No goal chosen yet, no target visited; two floats per target (score state)."""
         N = targets.shape[0]
         istate = np.zeros(N + 1, dtype=np.int64)
