@@ -18,14 +18,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pinocchio as pin
 from numpy.typing import NDArray
 
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 from gb_pin.learn.body.chain import PRISMATIC, REVOLUTE, KinematicChain
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 """World coordinate of each task-axis letter."""

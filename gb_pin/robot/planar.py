@@ -1,14 +1,29 @@
-"""Procedural planar chains of the paper (Sec. III): ``planar_chain(m)`` and its home posture."""
+"""Procedural planar chains of the paper (Sec. III): ``planar_chain(m)``, its home posture, its target.
+
+:func:`planar_chain` builds the chain as a ``pin.Model``; :func:`planar_target` builds the
+:class:`~gb_pin.robot.target.KinematicTarget` of a preset from the same geometry written
+directly as the learner's arrays (:func:`planar_kinematics`), and builds the ``pin.Model``
+only when something asks for it (a viewer, a check against Pinocchio). A planar run then never
+imports pinocchio; tests hold the arrays equal, bit for bit, to the ones read from the model.
+"""
 
 from __future__ import annotations
 
+import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
 from numpy.typing import NDArray
 
 from gb_pin import _validation as check
+from gb_pin.learn.body.chain import REVOLUTE, KinematicChain
+from gb_pin.robot.chain_reader import AXIS_INDEX, JointTable, parse_axes
+from gb_pin.robot.target import KinematicTarget
+from gb_pin.robot.targets_auto import TargetSpec
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 
 def planar_chain(m: int, total_length: float = 1.0) -> pin.Model:
@@ -26,6 +41,8 @@ def planar_chain(m: int, total_length: float = 1.0) -> pin.Model:
     Returns:
         The Pinocchio model, joints named ``joint1`` .. ``joint{m}``.
     """
+    import pinocchio as pin
+
     m = check.positive_int("m", m)
     total_length = check.positive_float("total_length", total_length)
     segment = total_length / m
@@ -49,8 +66,76 @@ def planar_chain(m: int, total_length: float = 1.0) -> pin.Model:
     return model
 
 
+def planar_kinematics(m: int, total_length: float = 1.0, axes: str = "xy") -> KinematicChain:
+    """The learner's chain of :func:`planar_chain` ``(m, total_length)``, written as arrays.
+
+    Joint i+1 is placed at (total_length / m, 0, 0) in joint i's frame, without rotation (joint 1
+    at the origin); every axis is z; the tip is one segment beyond the last joint. These are
+    the arrays :func:`~gb_pin.robot.chain_reader.read_chain` reads from the model.
+    """
+    m = check.positive_int("m", m)
+    total_length = check.positive_float("total_length", total_length)
+    segment = total_length / m
+    translations = np.zeros((m, 3))
+    translations[1:, 0] = segment
+    axes = parse_axes(axes)
+    return KinematicChain(
+        parents=np.arange(-1, m - 1, dtype=np.int64),
+        rotations=np.tile(np.eye(3), (m, 1, 1)),
+        translations=translations,
+        axes=np.tile(np.array([0.0, 0.0, 1.0]), (m, 1)),
+        kinds=np.full(m, REVOLUTE, dtype=np.int64),
+        q_index=np.arange(m, dtype=np.int64),
+        frame_parent=m - 1,
+        frame_translation=np.array([segment, 0.0, 0.0]),
+        task_axes=np.array([AXIS_INDEX[c] for c in axes], dtype=np.int64),
+    )
+
+
 def planar_home(m: int) -> NDArray[np.float64]:
     """The paper's home posture: q_1 = -pi/3, q_i = 2 pi / (3 (m - 1)) for i > 1 [rad]."""
     home = np.full(m, 2.0 * math.pi / (3.0 * (m - 1)) if m > 1 else 0.0)
     home[0] = -math.pi / 3.0
     return home
+
+
+def planar_target(
+    m: int,
+    total_length: float = 1.0,
+    *,
+    axes: str = "xy",
+    targets: TargetSpec = None,
+    name: str | None = None,
+) -> KinematicTarget:
+    """The :class:`KinematicTarget` of :func:`planar_chain` ``(m, total_length)``, frame ``"tip"``.
+
+    The same target as ``KinematicTarget(planar_chain(m, total_length), "tip", home=planar_home(m),
+    axes=axes, targets=targets)``, without importing pinocchio until its model is asked for.
+
+    Args:
+        m: number of joints (>= 1).
+        total_length: length of the whole arm [m].
+        axes: the task axes (``"xy"``, the paper's plane).
+        targets: the default target set (see :class:`KinematicTarget`).
+        name: a label; default ``planar{m}``.
+    """
+    m = check.positive_int("m", m)
+    total_length = check.positive_float("total_length", total_length)
+    table = JointTable(
+        order=tuple(range(1, m + 1)),
+        kinds=(REVOLUTE,) * m,
+        continuous=(False,) * m,
+        axes=np.tile(np.array([0.0, 0.0, 1.0]), (m, 1)),
+    )
+    return KinematicTarget._from_arrays(
+        name=name if name is not None else f"planar{m}",
+        frame="tip",
+        joints=[f"joint{i + 1}" for i in range(m)],
+        chain=planar_kinematics(m, total_length, axes),
+        table=table,
+        limits=(np.full(m, -np.inf), np.full(m, np.inf)),
+        home=planar_home(m),
+        axes=axes,
+        model_source=functools.partial(planar_chain, m, total_length),
+        targets=targets,
+    )

@@ -9,13 +9,16 @@ named reference configuration of the model (e.g. ``half_sitting`` from an SRDF).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 
 def reference_configurations(model: pin.Model) -> dict[str, NDArray[np.float64]]:
@@ -30,6 +33,8 @@ def reference_posture(model: pin.Model) -> NDArray[np.float64]:
         return np.array(refs["half_sitting"], dtype=float)
     if len(refs) == 1:
         return np.array(next(iter(refs.values())), dtype=float)
+    import pinocchio as pin
+
     return np.array(pin.neutral(model), dtype=float)
 
 

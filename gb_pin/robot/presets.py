@@ -49,7 +49,7 @@ from gb_pin._names import closest
 from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
 from gb_pin.learn.config import NAMES, check_values
 from gb_pin.robot.grids import grid_targets
-from gb_pin.robot.planar import planar_chain, planar_home
+from gb_pin.robot.planar import planar_chain, planar_home, planar_target
 from gb_pin.robot.target import KinematicTarget
 
 __all__ = [
@@ -320,11 +320,13 @@ def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarg
     if preset.source == "planar":
         if m is None:
             raise InvalidArgumentError(f"preset {preset.name!r} is a family: give its number of joints")
-        model = planar_chain(m, float(preset.options.get("total_length", 1.0)))
-        home = planar_home(m)
+        length = float(preset.options.get("total_length", 1.0))
+        if preset.frame == "tip":  # the arrays directly, pinocchio only when asked for
+            return planar_target(m, length, axes=preset.axes, targets=preset.targets, name=name)
         return KinematicTarget(
-            model, preset.frame, home=home, axes=preset.axes, targets=preset.targets, name=name
-        )
+            planar_chain(m, length), preset.frame, home=planar_home(m), axes=preset.axes,
+            targets=preset.targets, name=name,
+        )  # fmt: skip
     spec: Any = preset.targets if preset.targets is not None else preset.target_spec
     home_arg: Any = list(preset.home) if isinstance(preset.home, tuple) else preset.home
     if preset.source == "example-robot-data":

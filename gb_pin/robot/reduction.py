@@ -10,14 +10,17 @@ operational frame up in it. Every error names the bad value and the closest vali
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
 from numpy.typing import NDArray
 
 from gb_pin._names import suggest
 from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
 from gb_pin.robot.chain_reader import joint_kind
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 
 def joint_names(model: pin.Model) -> list[str]:
@@ -81,6 +84,8 @@ def lock_joints(
     Raises:
         InvalidArgumentError: ``pinocchio.buildReducedModel`` failed.
     """
+    import pinocchio as pin
+
     kept = set(joints)
     locked_names = [n for n in joint_names(model) if n not in kept]
     if not locked_names:

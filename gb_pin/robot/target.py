@@ -24,27 +24,34 @@ from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnreachableTargetWarning
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.robot.chain_reader import JointTable, parse_axes, read_chain, read_joints, read_limits
-from gb_pin.robot.models import build_visual_model, load_example_robot, load_urdf_model
-from gb_pin.robot.postures import home_posture, reference_posture, to_configuration
+from gb_pin.robot.pinocchio_models import PinocchioModels
+from gb_pin.robot.postures import check_within_limits, home_posture, reference_posture, to_configuration
 from gb_pin.robot.reachability import beyond_reach, positions
 from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
 from gb_pin.robot.targets_auto import TargetSpec, auto_grid, auto_task_grid, resolve_targets
-from gb_pin.robot.task_reader import pinocchio_task_vector, stack_task
 from gb_pin.robot.task_spec import TaskComponentSpec, TaskSpec, component_label, resolve_task
 
+if TYPE_CHECKING:
+    import pinocchio as pin
 
-class KinematicTarget:
+# Pinocchio (and the modules that load models with it) is imported where a model is built or
+# read: a planar preset builds its arrays directly (:func:`gb_pin.robot.planar.planar_target`)
+# and its pin.Model only when something asks for it (a viewer, Pinocchio checks), which keeps
+# the first 0.1 s of pinocchio's import out of a planar run.
+
+
+class KinematicTarget(PinocchioModels):
     """Forward kinematics of one frame of a Pinocchio model, over the joints the learner moves.
 
     Joints not in ``joints`` (a floating base included) are locked at the reference
@@ -102,17 +109,20 @@ class KinematicTarget:
         orientation_scale: float | None = None,
         pointing_axis: str | ArrayLike = "z",
     ) -> None:
+        import pinocchio as pin
+
         if not isinstance(model, pin.Model):
             raise InvalidArgumentError(f"model must be a pinocchio.Model, got {type(model).__name__}")
         self.name: str = name if name is not None else (model.name or "robot")
         self.reference: NDArray[np.float64] = reference_posture(model)
         self.joints: tuple[str, ...] = tuple(select_joints(model, joints, self.name))
-        self.model: pin.Model = lock_joints(model, self.joints, self.reference, self.name)
-        self.frame_id: int = find_frame(self.model, frame, self.name)
+        self._model: pin.Model | None = lock_joints(model, self.joints, self.reference, self.name)
+        self._frame_id: int | None = find_frame(self._model, frame, self.name)
         self.frame: str = frame
         self.chain: KinematicChain
         self._data: pin.Data | None = None  # created on first use: pinocchio's Data is O(nv^3)
-        self.full_model: pin.Model = pin.Model(model)
+        self._full_model: pin.Model | None = pin.Model(model)
+        self._model_source: Callable[[], pin.Model] | None = None
         self.axes: str = parse_axes(axes)
         self.task: tuple[TaskComponentSpec, ...] | None = resolve_task(
             task, frame, self.axes, orientation_scale, pointing_axis
@@ -126,25 +136,66 @@ class KinematicTarget:
             home, model, self.reference, self.joints, self._table.continuous, limits, self.name
         )
         if self.task is not None:
+            from gb_pin.robot.task_reader import stack_task
+
             self.chain = stack_task(self.chain, self.model, self.task, self.home, self.name)
         self.targets: NDArray[np.float64] | None = (
             None if targets is None else resolve_targets(targets, self, what="targets")
         )
 
-    @property
-    def data(self) -> pin.Data:
-        """The Pinocchio data of the reduced model, created on first use.
+    @classmethod
+    def _from_arrays(
+        cls,
+        *,
+        name: str,
+        frame: str,
+        joints: Sequence[str],
+        chain: KinematicChain,
+        table: JointTable,
+        limits: tuple[NDArray[np.float64], NDArray[np.float64]],
+        home: ArrayLike,
+        axes: str,
+        model_source: Callable[[], pin.Model],
+        targets: TargetSpec = None,
+    ) -> KinematicTarget:
+        """A target whose learner arrays are given and whose pin.Model is built on first use.
 
-        ``pin.Model.createData`` costs O(nv^3) time and memory (4 s at 300 joints, gigabytes at
-        2000), and the learner never needs it: it runs on the chain's arrays.
+        For procedural models whose arrays are cheaper to write than to read (the planar
+        chains, :func:`gb_pin.robot.planar.planar_target`): ``model_source()`` must build the
+        full model those arrays describe, with every joint moved (nothing to lock) and the
+        neutral configuration as reference. Tests compare every array with the ones read from
+        the model.
         """
-        if self._data is None:
-            self._data = self.model.createData()
-        return self._data
+        self = cls.__new__(cls)
+        self.name = name
+        self.joints = tuple(joints)
+        self.frame = frame
+        self.axes = parse_axes(axes)
+        self.task = None
+        self.chain = chain
+        self._table = table
+        self.lower, self.upper = limits
+        self.reference = np.zeros(len(self.joints))
+        self._q_ref = np.zeros(len(self.joints))
+        self._full_ids = table.order
+        self._model = None
+        self._full_model = None
+        self._frame_id = None
+        self._data = None
+        self._model_source = model_source
+        self._urdf = None
+        self._package_dirs = None
+        self._auto = None
+        self.home = check.vector("home", home, len(self.joints))
+        check_within_limits(self.home, self.joints, *limits)
+        self.targets = None if targets is None else resolve_targets(targets, self, what="targets")
+        return self
 
     def _read_kinematics(self) -> None:
         """The learner's view of the reduced model: joint kinds and axes, limits, the chain."""
         self._table: JointTable = read_joints(self.model, self.joints)
+        import pinocchio as pin
+
         self._full_ids = tuple(int(self.full_model.getJointId(j)) for j in self.joints)
         self._q_ref: NDArray[np.float64] = pin.neutral(self.model)
         limits = read_limits(self.model, self._table)
@@ -194,6 +245,8 @@ class KinematicTarget:
         Raises:
             InvalidArgumentError: missing or malformed URDF/SRDF, or any constructor error.
         """
+        from gb_pin.robot.models import load_urdf_model
+
         model = load_urdf_model(path, srdf=srdf, floating_base=floating_base)
         target = cls(
             model,
@@ -249,6 +302,8 @@ class KinematicTarget:
             UnknownRobotError: unknown robot, frame or joint (closest names listed).
             InvalidArgumentError: any other constructor error.
         """
+        from gb_pin.robot.models import load_example_robot
+
         model, _, urdf = load_example_robot(name)
         target = cls(
             model,
@@ -332,6 +387,10 @@ class KinematicTarget:
         Returns:
             (n,) or (N, n) positions [m].
         """
+        import pinocchio as pin
+
+        from gb_pin.robot.task_reader import pinocchio_task_vector
+
         arr2, single = self._postures(q)
         out = np.empty((arr2.shape[0], self.n_task))
         idx = self.chain.task_axes
@@ -408,6 +467,8 @@ class KinematicTarget:
                 f"target {self.name!r} was built from a pin.Model, not a URDF: it has no meshes to load "
                 "(use KinematicTarget.from_urdf or from_example_robot_data)"
             )
+        from gb_pin.robot.models import build_visual_model
+
         return build_visual_model(self.full_model, self._urdf, self._package_dirs)
 
     @property
