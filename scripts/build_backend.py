@@ -2,13 +2,14 @@
 
 ``pip install -e .`` builds the editable wheel with this backend (``[build-system]`` of
 pyproject.toml). After setuptools has built it, :func:`build_editable` runs
-``python -m gb_pin.runs.precompile`` on the source tree in the build environment (numpy and numba
-are added to its requirements, with the project's own version bounds), which writes the machine
-code of the common kernels into numba's cache beside the sources (``gb_pin/**/__pycache__``),
-where the installed package finds them: the first ``gb-pin babble`` then loads the kernels
-instead of compiling them. A failure there never fails the install (the first run compiles, as
-without it). ``GB_PIN_PRECOMPILE=0`` skips it; wheels (``pip install .``) are left alone: their
-files move, and numba's cache is keyed by the source path.
+``python -m gb_pin.runs.precompile`` on the source tree in the build environment (numpy and
+numba are added to its requirements, with the project's own version bounds; its two
+independent parts in two processes). That writes the machine code of the common kernels into
+numba's cache beside the sources (``gb_pin/**/__pycache__``), where the installed package
+finds them: the first ``gb-pin babble`` then loads the kernels instead of compiling them. A
+failure there never fails the install (the first run compiles, as without it).
+``GB_PIN_PRECOMPILE=0`` skips it; wheels (``pip install .``) are left alone: their files move,
+and numba's cache is keyed by the source path.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from setuptools.build_meta import (  # noqa: F401  (the rest of the PEP 517/660 
 
 ROOT = Path(__file__).resolve().parent.parent
 TIMEOUT_S = 900  # a slow machine compiles in ~30 s; past this something is wrong
+PARTS = ("babble", "ik")  # gb_pin.runs.precompile.PARTS: independent, compiled side by side
 
 
 def _enabled() -> bool:
@@ -67,22 +69,34 @@ def build_editable(
 
 
 def _precompile() -> None:
+    """Run ``gb_pin.runs.precompile``'s independent parts in parallel processes; report, never raise."""
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), env.get("PYTHONPATH", "")) if p)
     start = time.perf_counter()
+    jobs: list[subprocess.Popen[str]] = []
     try:
-        done = subprocess.run(
-            [sys.executable, "-m", "gb_pin.runs.precompile"],
-            cwd=ROOT, env=env, capture_output=True, text=True, timeout=TIMEOUT_S, check=False,
-        )  # fmt: skip
+        for part in PARTS:
+            jobs.append(
+                subprocess.Popen(
+                    [sys.executable, "-m", "gb_pin.runs.precompile", part],
+                    cwd=ROOT,
+                    env=env,
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.PIPE,
+                    text=True,
+                )
+            )
+        outputs = [job.communicate(timeout=TIMEOUT_S) for job in jobs]
     except (OSError, subprocess.SubprocessError) as exc:
+        for job in jobs:
+            job.kill()
         print(f"gb_pin: kernels not precompiled ({exc}); the first run compiles them", file=sys.stderr)
         return
-    if done.returncode != 0:
-        tail = (done.stderr or done.stdout).strip().splitlines()[-3:]
-        print(
-            f"gb_pin: kernels not precompiled ({' / '.join(tail)}); the first run compiles them",
-            file=sys.stderr,
-        )
-        return
-    print(f"{done.stdout.strip()} (precompile step: {time.perf_counter() - start:.1f} s)", file=sys.stderr)
+    for job, (out, err) in zip(jobs, outputs, strict=True):
+        if job.returncode != 0:
+            tail = (err or out).strip().splitlines()[-3:]
+            why = " / ".join(tail)
+            print(f"gb_pin: kernels not precompiled ({why}); the first run compiles them", file=sys.stderr)
+        else:
+            print(out.strip(), file=sys.stderr)
+    print(f"gb_pin: precompile step {time.perf_counter() - start:.1f} s", file=sys.stderr)

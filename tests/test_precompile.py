@@ -18,6 +18,9 @@ from types import ModuleType
 
 import pytest
 
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.runs.precompile import PARTS, main, precompile
+
 ROOT = Path(__file__).resolve().parent.parent
 
 _CHECK = """
@@ -73,6 +76,10 @@ def test_the_build_step_leaves_nothing_to_compile(tmp_path: Path, monkeypatch: p
         assert stats["pinocchio"] == (robot != "planar20")  # a planar run never imports it
 
 
+def test_backend_runs_every_part() -> None:
+    assert _backend().PARTS == PARTS
+
+
 def test_backend_asks_for_numpy_and_numba_with_the_project_bounds(monkeypatch: pytest.MonkeyPatch) -> None:
     backend = _backend()
     # setuptools' own part needs a recent setuptools (the build environment has one), not ours.
@@ -92,3 +99,9 @@ def test_a_failing_step_never_fails_the_install(
     monkeypatch.setattr(backend.sys, "executable", str(ROOT / "no-such-python"))
     backend._precompile()  # an OSError inside: reported, not raised
     assert "not precompiled" in capsys.readouterr().err
+
+
+def test_unknown_part_is_refused() -> None:
+    with pytest.raises(InvalidArgumentError, match="unknown precompile part"):
+        precompile(["everything"])
+    assert main(["everything"]) == 2
