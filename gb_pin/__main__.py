@@ -1,8 +1,6 @@
 """``python -m gb_pin``: the gb-pin command line, as ``gb-pin``."""
 
-import sys
-
-from gb_pin.cli import main
+from gb_pin.cli import run
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

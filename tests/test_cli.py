@@ -148,7 +148,7 @@ def test_cli_imports_go_one_way() -> None:
                "goal_options": set()}  # fmt: skip
     for path in sorted(cli.glob("*.py")):
         if path.stem == "__main__":
-            continue  # `python -m gb_pin.cli`: from gb_pin.cli import main
+            continue  # `python -m gb_pin.cli`: from gb_pin.cli import run
         imported = _imports(path)
         assert "gb_pin.cli" not in imported, f"{path.name} imports through gb_pin/cli/__init__.py"
         inner = {m.removeprefix("gb_pin.cli.").split(".")[0] for m in imported if m.startswith("gb_pin.cli.")}
@@ -201,6 +201,35 @@ def test_version_and_python_m_gb_pin() -> None:
     for args in (["-m", "gb_pin", "--version"], ["-m", "gb_pin.cli", "--version"]):
         out = subprocess.run([sys.executable, *args], capture_output=True, text=True, check=True).stdout
         assert out.strip() == f"gb-pin {gb_pin.__version__}"
+
+
+def test_program_exit_keeps_output_files_and_status(tmp_path: Path) -> None:
+    """`gb-pin babble` as a program ends with os._exit after flushing: nothing it wrote is lost.
+
+    The summary reaches a pipe whole, the result and checkpoint files are complete, and errors keep
+    exit status 2; ``main()`` called in-process returns instead (it never ends the caller).
+    """
+    out, ckpt = tmp_path / "run.npz", tmp_path / "run.ckpt"
+    argv = ["babble", "--robot", "planar3", "--movements", "40", "--seed", "2", "--quiet", "--out", str(out),
+            "--checkpoint", str(ckpt), "--checkpoint-every", "20"]  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, "-m", "gb_pin", *argv], capture_output=True, text=True, timeout=300
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    lines = proc.stdout.splitlines()
+    assert lines[0].startswith("robot            planar3") and lines[-1] == f"saved            {out}"
+    saved = gb_pin.load_result(str(out))
+    again = gb_pin.babble("planar3", movements=40, seed=2)
+    np.testing.assert_array_equal(saved.history.error, again.history.error)
+    np.testing.assert_array_equal(gb_pin.resume(str(ckpt)).history.error, again.history.error)
+    bad = subprocess.run(
+        [sys.executable, "-m", "gb_pin", "babble", "--robot", "planar1x"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert bad.returncode == 2 and bad.stderr.startswith("gb-pin: error: unknown robot")
+    assert main(argv[:-4]) == 0  # in-process: returns
 
 
 def test_resume_reports_this_sessions_steps(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]

@@ -1,4 +1,4 @@
-"""Kernels compiled ahead of the first run (gb_pin.runs.precompile, scripts/build_backend.py).
+"""Kernels compiled ahead of the first run (gb_pin.runs.precompile, gb_pin/_build_backend.py).
 
 The build backend runs the precompile step at ``pip install -e .``; a fresh process must then
 find every kernel a default run, the inverse estimate, the forward kinematics and the IK solver
@@ -8,7 +8,7 @@ statistics count the misses). Each test uses its own empty cache directory.
 
 from __future__ import annotations
 
-import importlib.util
+import importlib
 import json
 import os
 import subprocess
@@ -48,13 +48,7 @@ def _env(cache: Path) -> dict[str, str]:
 
 
 def _backend() -> ModuleType:
-    spec = importlib.util.spec_from_file_location(
-        "gb_pin_build_backend", ROOT / "scripts" / "build_backend.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return importlib.import_module("gb_pin._build_backend")
 
 
 @pytest.mark.slow

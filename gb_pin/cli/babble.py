@@ -136,6 +136,7 @@ def run(args: argparse.Namespace) -> int:
         if where != args.out:
             print(f"gb-pin: warning: could not write {args.out}; saved to {where} instead", file=sys.stderr)
         print(f"saved            {where}")
+    args.quick_exit = viewer is None  # everything is written and closed (gb_pin.cli.run)
     return 0
 
 

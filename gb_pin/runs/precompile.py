@@ -6,7 +6,7 @@ paper's goal choice calls the loop with the same types, so that one small planar
 what ``gb-pin babble --robot <any preset>`` needs. :data:`PARTS` are independent (no cached
 kernel in common), so that two processes can compile them side by side: ``"babble"`` (the
 loop, the inverse estimate, forward kinematics) and ``"ik"`` (the IK solver). It needs only
-numpy and numba (no pinocchio): the build backend (``scripts/build_backend.py``) runs it at
+numpy and numba (no pinocchio): the build backend (``gb_pin/_build_backend.py``) runs it at
 ``pip install -e .``, so that the first run of a fresh install loads the kernels instead of
 compiling them (other goal generators and stacked tasks still compile on their first use).
 

@@ -9,7 +9,9 @@ numba's cache beside the sources (``gb_pin/**/__pycache__``), where the installe
 finds them: the first ``gb-pin babble`` then loads the kernels instead of compiling them. A
 failure there never fails the install (the first run compiles, as without it).
 ``GB_PIN_PRECOMPILE=0`` skips it; wheels (``pip install .``) are left alone: their files move,
-and numba's cache is keyed by the source path.
+and numba's cache is keyed by the source path. The backend lives in the package (``backend-path``
+is the project's root) so that an sdist carries it; importing ``gb_pin`` itself imports nothing
+(its names are lazy), so that the build environment needs no more than setuptools.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from setuptools.build_meta import (  # noqa: F401  (the rest of the PEP 517/660 
     prepare_metadata_for_build_wheel,
 )
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parent.parent  # the project: this file is gb_pin/_build_backend.py
 TIMEOUT_S = 900  # a slow machine compiles in ~30 s; past this something is wrong
 PARTS = ("babble", "ik")  # gb_pin.runs.precompile.PARTS: independent, compiled side by side
 
