@@ -294,3 +294,21 @@ def test_babble_any_urdf_or_example_robot_data_model(tmp_path: Path, capsys) -> 
     ):
         assert main(bad) == 2
         assert needle in capsys.readouterr().err
+
+
+def test_a_long_warmup_says_it_compiles(capsys) -> None:  # type: ignore[no-untyped-def]
+    """A warmup over the threshold prints one line on stderr (not with --quiet, not when fast)."""
+    import time
+
+    from gb_pin.cli.babble import _warmup
+
+    def slow() -> float:
+        time.sleep(0.5)
+        return 0.5
+
+    assert _warmup(slow, quiet=False, after=0.05) == 0.5
+    assert capsys.readouterr().err.count("compiling the numba kernels") == 1
+    _warmup(slow, quiet=True, after=0.05)
+    _warmup(lambda: 0.0, quiet=False, after=0.3)
+    time.sleep(0.4)  # a cancelled note never prints later
+    assert "compiling" not in capsys.readouterr().err

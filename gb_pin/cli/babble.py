@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import threading
 import time
 from typing import TYPE_CHECKING, Any
 
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
         get_preset(args.robot)  # an unknown robot is reported before the kernels compile
         robot = args.robot
     record = _recording(args)
-    compile_time = warmup()
+    compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
     progress = _Progress(args.robot, args.movements, done, disable=args.quiet)
     start = time.perf_counter()
@@ -219,6 +220,30 @@ class _Progress:
         """Close the bar, if one was shown."""
         if self._bar is not None:
             self._bar.close()
+
+
+def _warmup(warmup: Any, quiet: bool, after: float = 1.0) -> float:
+    """Load (or compile) the kernels; a line on stderr if that takes over ``after`` seconds.
+
+    A first run without the install's precompiled kernels compiles for 8-11 s before the progress
+    bar shows: the line says what the pause is (from a timer thread: numba's compiler lets it run).
+    """
+    note = threading.Timer(
+        after,
+        lambda: print(
+            "gb-pin: compiling the numba kernels (once: they are cached for the next runs; "
+            "`pip install -e .` compiles them ahead)...",
+            file=sys.stderr,
+            flush=True,
+        ),
+    )
+    note.daemon = True
+    if not quiet:
+        note.start()
+    try:
+        return float(warmup())
+    finally:
+        note.cancel()
 
 
 def _print_summary(
