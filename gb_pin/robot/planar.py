@@ -119,19 +119,17 @@ def planar_target(
         targets: the default target set (see :class:`KinematicTarget`).
         name: a label; default ``planar{m}``.
     """
-    m = check.positive_int("m", m)
-    total_length = check.positive_float("total_length", total_length)
+    chain = planar_kinematics(m, total_length, axes)  # checks m, total_length and axes
+    m = chain.axes.shape[0]
+    # Joint i + 1 of the model is entry i of q, every joint revolute (and bounded) about z.
     table = JointTable(
-        order=tuple(range(1, m + 1)),
-        kinds=(REVOLUTE,) * m,
-        continuous=(False,) * m,
-        axes=np.tile(np.array([0.0, 0.0, 1.0]), (m, 1)),
+        order=tuple(range(1, m + 1)), kinds=(REVOLUTE,) * m, continuous=(False,) * m, axes=chain.axes.copy()
     )
     return KinematicTarget._from_arrays(
         name=name if name is not None else f"planar{m}",
         frame="tip",
         joints=[f"joint{i + 1}" for i in range(m)],
-        chain=planar_kinematics(m, total_length, axes),
+        chain=chain,
         table=table,
         limits=(np.full(m, -np.inf), np.full(m, np.inf)),
         home=planar_home(m),

@@ -92,7 +92,7 @@ def check_within_limits(
 
 def home_posture(
     home: ArrayLike | str | None,
-    full_model: pin.Model,
+    full_model: pin.Model | None,
     reference: NDArray[np.float64],
     joints: Sequence[str],
     continuous: Sequence[bool],
@@ -104,7 +104,7 @@ def home_posture(
     Args:
         home: a posture (m,), the name of a reference configuration of ``full_model``,
             or None for ``reference``.
-        full_model: the full model.
+        full_model: the full model (None for a target built from arrays, whose home is a posture).
         reference: its reference posture (see :func:`reference_posture`).
         joints: the moved joints, in the order of q.
         continuous: whether each joint is continuous.
@@ -115,6 +115,8 @@ def home_posture(
         InvalidArgumentError: an unknown configuration name, a wrong shape, a posture
             outside the joint limits.
     """
+    if full_model is None and (home is None or isinstance(home, str)):
+        raise InvalidArgumentError(f"home of {name!r} must be a posture over its joints, got {home!r}")
     if home is None:
         q_full = reference
     elif isinstance(home, str):
@@ -134,6 +136,7 @@ def home_posture(
             ) from exc
         check_within_limits(q, joints, *limits)
         return q
+    assert full_model is not None  # checked above
     ids = [full_model.getJointId(j) for j in joints]
     q = from_configuration(q_full, full_model, ids, continuous)
     check_within_limits(q, joints, *limits)

@@ -36,7 +36,7 @@ from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnreachableTarge
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.robot.chain_reader import JointTable, parse_axes, read_chain, read_joints, read_limits
 from gb_pin.robot.pinocchio_models import PinocchioModels
-from gb_pin.robot.postures import check_within_limits, home_posture, reference_posture, to_configuration
+from gb_pin.robot.postures import home_posture, reference_posture, to_configuration
 from gb_pin.robot.reachability import beyond_reach, positions
 from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
 from gb_pin.robot.targets_auto import TargetSpec, auto_grid, auto_task_grid, resolve_targets
@@ -186,16 +186,15 @@ class KinematicTarget(PinocchioModels):
         self._urdf = None
         self._package_dirs = None
         self._auto = None
-        self.home = check.vector("home", home, len(self.joints))
-        check_within_limits(self.home, self.joints, *limits)
+        self.home = home_posture(home, None, self.reference, self.joints, table.continuous, limits, name)
         self.targets = None if targets is None else resolve_targets(targets, self, what="targets")
         return self
 
     def _read_kinematics(self) -> None:
         """The learner's view of the reduced model: joint kinds and axes, limits, the chain."""
-        self._table: JointTable = read_joints(self.model, self.joints)
         import pinocchio as pin
 
+        self._table: JointTable = read_joints(self.model, self.joints)
         self._full_ids = tuple(int(self.full_model.getJointId(j)) for j in self.joints)
         self._q_ref: NDArray[np.float64] = pin.neutral(self.model)
         limits = read_limits(self.model, self._table)
