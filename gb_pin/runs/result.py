@@ -42,6 +42,7 @@ class BabbleResult:
             the paper's uniform choice.
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
             (the test set, ``eval_targets=``); None when they are the same set.
+        missing: learning steps whose reading was missing (a sensor's losses, or ``tell(None)``).
     """
 
     target: KinematicTarget
@@ -58,6 +59,7 @@ class BabbleResult:
     state: BabbleState | None = field(default=None, repr=False)
     goals: str | None = None
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
+    missing: int = 0
 
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
@@ -188,6 +190,11 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             robot that cannot be rebuilt (the message says what was recorded and how to pass it).
     """
     return BabbleResult.load(path, target)
+
+
+def state_fields(state: BabbleState) -> dict[str, Any]:
+    """The fields of a result that its run's final state gives: goals, goal set, missing readings."""
+    return {**goal_fields(state), "missing": state.missing}
 
 
 def goal_fields(state: BabbleState) -> dict[str, Any]:
