@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin.ik.api import DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_TOL, Seed, solve, solve_path
 from gb_pin.ik.solution import IKPath, IKSolution
 from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.feedback import DEFAULT_OBSERVATIONS, ReachResult, reach
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.state import BabbleState
@@ -166,6 +167,31 @@ class BabbleResult:
             An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
         """
         return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol)
+
+    def reach(
+        self,
+        X: ArrayLike,
+        observe: Any,
+        observations: Any = DEFAULT_OBSERVATIONS,
+        **options: Any,
+    ) -> ReachResult:
+        """Reach targets by feedback on the learned model, the robot driven by ``observe(q) -> x or None``.
+
+        g(x*) first, then corrections q += dg/dx (x* - mean of k readings) (:mod:`gb_pin.learn.feedback`):
+        no kinematic model, sub-millimetre on a mis-modelled arm (docs/HARDWARE.md).
+
+        Args:
+            X: (N, n) targets or one (n,) target [m].
+            observe: executes a posture (m,) and returns the reading (n,) [m], or None when it is lost.
+            observations: readings averaged before each correction, e.g. (1, 1, 3).
+            **options: ``gain``, ``max_joint_step`` with ``start``, ``retries``
+                (:class:`~gb_pin.learn.feedback.FeedbackReach`).
+
+        Returns:
+            A :class:`~gb_pin.learn.feedback.ReachResult` (postures, initial, readings, reached).
+        """
+        lower, upper = self.target.lower, self.target.upper
+        return reach(self.model, X, observe, lower, upper, observations=observations, **options)
 
 
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:

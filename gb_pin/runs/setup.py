@@ -41,7 +41,8 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
         InvalidArgumentError: not a robot.
     """
     if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot):
-        return robot, None, {}
+        preset = getattr(robot, "preset", None)  # a plant of a preset learns with the preset's defaults
+        return robot, None, dict(get_preset(preset)[0].learner) if isinstance(preset, str) else {}
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):
