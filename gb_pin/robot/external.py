@@ -35,6 +35,7 @@ class ExternalRobot:
     """
 
     chain = None  # nothing gb_pin can compute: only ask/tell sessions drive it
+    preset: str | None = None  # a preset it was taken from: runs use that preset's learner defaults
 
     def __init__(
         self,
@@ -67,6 +68,24 @@ class ExternalRobot:
         self._n = check.positive_int("n_task", n_task, 1, 10**4)
         self.targets: NDArray[np.float64] = check.points("targets", targets, self._n)
         self.name = str(name)
+
+    @classmethod
+    def from_preset(cls, name: str) -> ExternalRobot:
+        """The real robot a preset describes: its home, limits and goal set, none of its kinematics.
+
+        Runs on it take the preset's learner defaults (e.g. the SO-101's radius).
+
+        Raises:
+            UnknownRobotError: unknown preset name.
+        """
+        from gb_pin.robot.presets import load_robot
+
+        model = load_robot(name)
+        targets = model.targets if model.targets is not None else model.auto_targets()
+        robot = cls(model.home, model.n_task, targets, lower=model.lower, upper=model.upper,
+                    name=f"{name} (hardware)")  # fmt: skip
+        robot.preset = name
+        return robot
 
     @property
     def n_joints(self) -> int:
