@@ -18,7 +18,7 @@ import numpy as np
 
 import gb_pin
 from gb_pin.learn.feedback import reach
-from gb_pin.reproduce.hardware import test_grid
+from gb_pin.reproduce.hardware import evaluation_grid
 
 SCHEDULES = ((1, 1, 3), (1, 2, 2), (3,), (5,), (10,), (4, 16), (2, 8, 32))
 
@@ -31,7 +31,7 @@ def main() -> None:
     p.add_argument("--movements", type=int, default=3000)
     args = p.parse_args()
     arm = gb_pin.load_robot("so101")
-    test = test_grid(arm)
+    test = evaluation_grid(arm)
     for noise in (float(v) for v in args.noise.split(",")):
         rows: dict[str, list[float]] = {}
         for seed in range(args.arms):

@@ -28,6 +28,7 @@ from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
 from gb_pin.runs.api import babble
+from gb_pin.runs.spec import RunSpec
 
 
 def run_one_trial(
@@ -325,7 +326,7 @@ def run_sweep(
 
 
 def run_trials(
-    robot: str = "planar5",
+    robot: str | RunSpec = "planar5",
     trials: int = 100,
     movements: int = 300,
     seed: int = 0,
@@ -340,7 +341,8 @@ def run_trials(
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
 
     Args:
-        robot: preset name.
+        robot: preset name, or a :class:`~gb_pin.runs.spec.RunSpec` (then ``movements`` and ``seed``
+            are the spec's, and no babble arguments are given here).
         trials: number of trials.
         movements: movements per trial.
         seed: seed of trial 0.
@@ -359,6 +361,12 @@ def run_trials(
         A :class:`~gb_pin.experiments.trialset.TrialSet`; identical for any number of
         workers, locally or on Dask.
     """
+    if isinstance(robot, RunSpec):  # the run's one description: its robot, movements and seed too
+        if babble_args:
+            raise InvalidArgumentError(
+                f"give the run as a RunSpec or as arguments, not both: {sorted(babble_args)}"
+            )
+        robot, movements, seed, babble_args = robot.trial_arguments()
     if not isinstance(robot, str):
         raise InvalidArgumentError(f"robot must be a preset name for run_trials, got {robot!r}")
     check_parameters(babble_args)

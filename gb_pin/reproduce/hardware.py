@@ -64,7 +64,7 @@ class Condition(NamedTuple):
         return f"{self.robot}_arm{self.arm}_n{self.noise * 1000:g}mm_l{self.loss:g}_{digest}"
 
 
-def test_grid(target: Any) -> NDArray[np.float64]:
+def evaluation_grid(target: Any) -> NDArray[np.float64]:
     """3 x 3 x 3 points over the preset's goal box shrunk to 2/3 around its centre (not goal points)."""
     lo, hi = target.targets.min(axis=0), target.targets.max(axis=0)
     centre, half = (lo + hi) / 2, (hi - lo) / 3
@@ -102,7 +102,7 @@ def run_condition(cond: Condition, movements: int) -> dict[str, Any]:
     from gb_pin.robot.plant import Plant
 
     arm = gb_pin.load_robot(cond.robot)
-    test = test_grid(arm)
+    test = evaluation_grid(arm)
     plant = Plant(cond.robot, offset_std=math.radians(OFFSET_DEG), length_std=LENGTH_PCT / 100,
                   noise=cond.noise, loss=cond.loss, seed=cond.arm)  # fmt: skip
     urdf = gb_pin.ik.solve(arm, test, seed="home", tol=1e-9)
