@@ -133,7 +133,13 @@ class FunctionTarget(BlackBox):
 
     def _call(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         try:
-            x = np.asarray(self.function(q.copy()), dtype=np.float64)
+            raw = self.function(q.copy())
+            if raw is None:
+                raise InvalidArgumentError(
+                    f"forward model {self.name!r} returned None at q = {q.tolist()}: a forward model returns "
+                    "a position; a robot whose readings go missing runs in a session (tell(None))"
+                )
+            x = np.asarray(raw, dtype=np.float64)
         except InvalidArgumentError:
             raise
         except (TypeError, ValueError) as exc:
