@@ -59,6 +59,28 @@ class BabbleResult:
     goals: str | None = None
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
 
+    def __repr__(self) -> str:
+        """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
+        e0 = float(self.history.error[0])
+        share = f", {self.error / e0:.1%} of E_0" if e0 > 0 else ""
+        recorded = "None" if self.recording is None else f"<{len(self.recording.step)} steps>"
+        goal_set = "" if self.goal_targets is None else f", goal_targets=<{_shape(self.goal_targets)} array>"
+        return "\n".join(
+            [
+                "BabbleResult(",
+                f"  target={self.target!r}, robot={self.robot!r},",
+                f"  movements={self.movements}, steps={self.steps}, seed={self.seed!r}, "
+                f"wall_time={self.wall_time:.3g} s,",
+                f"  error={self.error:.4g} m (E^X; E_0 = {e0:.4g} m{share}), "
+                f"home_distance={self.home_distance:.4g} rad, n_prototypes={self.n_prototypes},",
+                f"  targets=<{_shape(self.targets)} array>, history=<{len(self.history.movements)} records>, "
+                f"recording={recorded}{goal_set},",
+                f"  config={self.config!r},",
+                f"  goals={self.goals!r},",
+                ")",
+            ]
+        )
+
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
         return self.model.predict(X)
@@ -202,3 +224,8 @@ def goal_fields(state: BabbleState) -> dict[str, Any]:
         "goals": None if default else repr(state.goals),
         "goal_targets": None if same or not state.goals.needs_targets else state.targets,
     }
+
+
+def _shape(array: NDArray[np.float64]) -> str:
+    """``27 x 3``: an array's shape for :meth:`BabbleResult.__repr__`."""
+    return " x ".join(str(s) for s in np.shape(array))

@@ -39,7 +39,9 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: not a robot.
     """
-    if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody):
+    if isinstance(robot, KinematicTarget):  # an onboarded robot brings the radius it measured
+        return robot, None, robot.learner_defaults
+    if isinstance(robot, FunctionTarget | ChangedBody):
         return robot, None, {}
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
