@@ -17,7 +17,11 @@ set or a radius, gets them here (``KinematicTarget(..., onboard=True)``, the def
 3. **goal grid**: :data:`GRID_SCALE` of the largest reachable 3-per-axis grid around that home
    (:func:`~gb_pin.robot.targets_auto.auto_grid`; the largest reaches to the workspace's border, where
    learning is slow);
-4. **radius**: :data:`RADIUS_FACTOR` times the grid's half-width (the spacing of its points).
+4. **radius**: :data:`RADIUS_FACTOR` times the grid's half-width (the spacing of its points);
+5. **sigma**: Eq. 12's, unless the exploration it makes at home, ``sigma sqrt(1 + |x_home|^2) |J|_F``
+   [m] (Eq. 8's noise A x + b on every joint, through the task Jacobian J), exceeds
+   :data:`DEVIATION_SHARE` of the grid's half-width: then that much (a goal grid small for the arm,
+   e.g. a 10 cm prismatic stroke across a 1 m arm, is otherwise drowned in exploration).
 
 The constants were measured on the arms of example-robot-data (docs/ROBOTS.md, "Any robot": 5 seeds,
 3000 movements): with the largest grid, Panda, TALOS and xArm7 ended at 19-30 % of E_0; with half of
@@ -55,8 +59,9 @@ PROBES = 32  # seeded postures where each joint's effect on the frame is measure
 MOVES = 1e-6  # a joint moves the frame if some probe's Jacobian column exceeds this [m/rad] or [m/m]
 GRID_SCALE = 0.5  # the goal grid's half-width, a fraction of the largest reachable one
 RADIUS_FACTOR = 0.8  # the prototype radius d, a multiple of the goal grid's half-width
+DEVIATION_SHARE = 0.5  # the most exploration at home, a fraction of the goal grid's half-width
 _STEP = 1e-7  # finite-difference step of the Jacobian [rad] or [m]
-CHOSEN = ("joints", "home", "targets", "radius")
+CHOSEN = ("joints", "home", "targets", "radius", "sigma")
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,6 +80,7 @@ class Onboarding:
         largest_half_width: the largest reachable grid's half-width around home [m] (0: not measured).
         shape: points per task axis of the goal grid (empty when the targets were given).
         radius: the prototype radius d [m], or None when not chosen.
+        sigma: the exploration noise [rad], or None (Eq. 12's, or not chosen).
     """
 
     chosen: tuple[str, ...]
@@ -85,6 +91,7 @@ class Onboarding:
     largest_half_width: float = 0.0
     shape: tuple[int, ...] = ()
     radius: float | None = None
+    sigma: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict (the result file's ``robot_source.onboarding``)."""
@@ -107,6 +114,7 @@ class Onboarding:
             largest_half_width=float(raw["largest_half_width"]),
             shape=tuple(int(c) for c in raw["shape"]),
             radius=None if raw["radius"] is None else float(raw["radius"]),
+            sigma=None if raw.get("sigma") is None else float(raw["sigma"]),
         )
 
     def lines(self, joints: Sequence[str], home: NDArray[np.float64], targets: int) -> list[str]:
@@ -128,6 +136,11 @@ class Onboarding:
             )
         if self.radius is not None:
             out.append(f"radius    {self.radius:.3f} m ({RADIUS_FACTOR:g} x the grid's half-width)")
+        if self.sigma is not None:
+            out.append(
+                f"sigma     {self.sigma:.3g} rad (less than Eq. 12's: the exploration at home within "
+                f"{DEVIATION_SHARE:g} of the grid's half-width)"
+            )
         return out
 
 
@@ -287,11 +300,12 @@ def record(
         grid: the goal grid, or None if the targets were given.
         robot: the robot with its home (for the margin and sigma_min of a given home).
     """
-    done = (joints, home is not None, grid is not None, grid is not None)
+    q = np.asarray(robot.home, dtype=float)[None, :]
+    sigma = None if grid is None else exploration_sigma(robot, grid.half_width)
+    done = (joints, home is not None, grid is not None, grid is not None, sigma is not None)
     chosen = tuple(what for what, yes in zip(CHOSEN, done, strict=True) if yes)
     if not chosen:
         return None
-    q = np.asarray(robot.home, dtype=float)[None, :]
     return Onboarding(
         chosen=chosen,
         dropped=dropped,
@@ -301,4 +315,23 @@ def record(
         largest_half_width=0.0 if grid is None else grid.largest_half_width,
         shape=() if grid is None else grid.shape,
         radius=None if grid is None else RADIUS_FACTOR * grid.half_width,
+        sigma=sigma,
     )
+
+
+def exploration_sigma(robot: Robot, half_width: float) -> float | None:
+    """Eq. 12's sigma capped to keep the exploration at home within a share of the grid; None: no cap.
+
+    Args:
+        robot: chain, home and limits.
+        half_width: the goal grid's half-width [m].
+    """
+    from gb_pin.learn.config import default_sigma
+
+    home = np.asarray(robot.home, dtype=float)
+    x = robot.chain.forward(home)
+    per_sigma = math.sqrt(1.0 + float(x @ x)) * float(np.linalg.norm(_jacobians(robot, home[None, :])[0]))
+    paper = default_sigma(home.shape[0])
+    if per_sigma * paper <= DEVIATION_SHARE * half_width:
+        return None
+    return DEVIATION_SHARE * half_width / per_sigma

@@ -256,9 +256,10 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
 
     @property
     def learner_defaults(self) -> dict[str, float]:
-        """Learner defaults: the radius the onboarding chose (``babble`` uses it unless given)."""
-        radius = None if self.onboarding is None else self.onboarding.radius
-        return {} if radius is None else {"radius": radius}
+        """Learner defaults: the radius (and sigma) onboarding chose; ``babble`` uses them unless given."""
+        record = self.onboarding
+        values = {} if record is None else {"radius": record.radius, "sigma": record.sigma}
+        return {k: v for k, v in values.items() if v is not None}
 
     @property
     def home_position(self) -> NDArray[np.float64]:

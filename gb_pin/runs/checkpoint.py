@@ -62,12 +62,32 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
         "seed": info.seed,
         "config": info.config.as_dict(),
         "wall_time": info.wall_time,
-        "rng": state.rng_state(),
-        "goals": {"name": state.goals.name, "params": state.goals.get_params()},
+        **state_header(state),
     }
     if info.source is not None:
         meta["robot_source"] = info.source
     atomic_savez(os.fspath(path), dict(state.to_arrays()), meta)
+
+
+def state_header(state: BabbleState) -> dict[str, Any]:
+    """The header entries of a state beside its arrays: the random generator's state and the goals."""
+    return {"rng": state.rng_state(), "goals": {"name": state.goals.name, "params": state.goals.get_params()}}
+
+
+def read_state(
+    path: str, arrays: dict[str, Any], header: dict[str, Any], config: BabbleConfig
+) -> BabbleState:
+    """The state whose arrays and :func:`state_header` entries a file holds, checked.
+
+    Raises:
+        ResultFileError, InvalidArgumentError: corrupted entries (arrays out of range, a bad generator).
+        KeyError, TypeError, ValueError: missing or malformed entries (the caller names the file).
+    """
+    goals = header.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
+    if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
+        raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
+    generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
+    return BabbleState.from_arrays(arrays, config, header["rng"], goals=generator)
 
 
 def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, CheckpointInfo]:
@@ -90,11 +110,7 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             wall_time=fields.seconds(path, meta, "wall_time"),
             source=robot_source.check(path, meta.get("robot_source")),
         )
-        goals = meta.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
-        if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
-            raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
-        generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
-        state = BabbleState.from_arrays(arrays, config, meta["rng"], goals=generator)
+        state = read_state(path, arrays, meta, config)
     except GbPinError as exc:
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:

@@ -37,7 +37,8 @@ class BabbleResult:
         wall_time: seconds spent babbling (compilation excluded after the first call).
         recording: the recorded steps, if ``record`` was given.
         state: the run's final :class:`~gb_pin.learn.state.BabbleState` (map, noise, random
-            stream, posture), for ``babble(..., init=result)``; None for results read from files.
+            stream, posture), for ``babble(..., init=result)``; result files hold it, so that
+            ``babble(init=load_result(path))`` continues a saved run (None for older files).
         goals: the goal generator, e.g. ``"DirectionGoals(distance=0.2, snap=0.05)"``; None for
             the paper's uniform choice.
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
@@ -99,6 +100,16 @@ class BabbleResult:
     def n_prototypes(self) -> int:
         """Number of local linear models K."""
         return self.model.n_prototypes_
+
+    def diagnose(self) -> str | None:
+        """Why the run stayed degenerate and what to try, in one line; None if it learned.
+
+        Degenerate: E^X above half of E_0, or at most 5 local models, after 100 movements or more
+        (:mod:`gb_pin.runs.diagnosis`); ``gb-pin babble`` ends such a run with this warning.
+        """
+        from gb_pin.runs.diagnosis import diagnose
+
+        return diagnose(self)
 
     def task_errors(self) -> Any:
         """Final errors per task component over ``targets``: positions [m], rotations [deg] (docs/TASKS.md).

@@ -201,6 +201,7 @@ def _check_onboarding(path: str, value: Any, n_axes: int) -> None:
     from gb_pin.robot.onboarding import CHOSEN
 
     keys = {"chosen", "dropped", "margin", "sigma_min", "half_width", "largest_half_width", "shape", "radius"}
+    keys.add("sigma")
     if not isinstance(value, dict) or set(value) != keys:
         raise _fail(path, "onboarding", value, f"an object with keys {sorted(keys)}")
     chosen, dropped, shape = value["chosen"], value["dropped"], value["shape"]
@@ -224,6 +225,7 @@ def _check_onboarding(path: str, value: Any, n_axes: int) -> None:
     for key, minimum, none in (
         ("margin", 0.0, True), ("sigma_min", 0.0, True), ("half_width", 0.0, False),
         ("largest_half_width", 0.0, False), ("radius", 1e-9, not grid),
+        ("sigma", 1e-12, True),
     ):  # fmt: skip
         if not _number(value[key], minimum, none):
             raise _fail(path, f"onboarding.{key}", value[key], f"a finite number >= {minimum:g}")
