@@ -149,6 +149,23 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
 
 
+def read_curves(path: str | os.PathLike[str]) -> tuple[History, str, int]:
+    """(the history E^X / D^home, the robot's name, movements) of a result file, no robot rebuilt.
+
+    Raises:
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+    """
+    path = os.fspath(path)
+    arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
+    try:
+        name = fields.optional_str(path, meta, "robot") or fields.optional_str(path, meta, "target_name")
+        moves, error, home_distance = fields.history(path, arrays)
+        history = History(movements=moves, error=error, home_distance=home_distance)
+        return history, str(name or "robot"), fields.count(path, meta, "movements")
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
+
+
 def _state(path: str, arrays: dict[str, Any], meta: dict[str, Any], config: BabbleConfig, target: Any) -> Any:
     """The run's final state the file holds (None for files without one), checked against the robot."""
     header = meta.get("state")
