@@ -372,6 +372,12 @@ def _start_viewer(args: argparse.Namespace) -> Viewer | None:
     print(f"viewer           {viewer.url}  (open it in a browser; served on 127.0.0.1 only)", flush=True)
     if args.view_pace is None:
         print("                 (full speed; --view-pace 30 shows every movement, 30 per second)", flush=True)
-    if args.view_wait > 0 and not viewer.wait_for_browser(args.view_wait):
-        print(f"                 no browser within {args.view_wait:g} s: babbling anyway", flush=True)
+    if args.view_wait > 0:
+        print(
+            f"                 waiting up to {args.view_wait:g} s for a browser to open it "
+            "(--view-wait SECONDS to change, 0 to start at once)...",
+            flush=True,
+        )
+        if not viewer.wait_for_browser(args.view_wait):
+            print(f"                 no browser within {args.view_wait:g} s: babbling anyway", flush=True)
     return viewer

@@ -239,6 +239,23 @@ def robot_argument(args: argparse.Namespace, default: str | None = None) -> Any:
     return args.robot
 
 
+def robot_list(args: argparse.Namespace, names: list[str]) -> list[Any]:
+    """Each of ``names`` as :func:`robot_argument` resolves it (the model options apply to URDF / erd ones).
+
+    Raises:
+        InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
+    """
+    out = []
+    for name in names:
+        one = argparse.Namespace(**vars(args))
+        one.robot = name
+        if not is_model_spec(name):  # the model options are for the URDF / erd:NAME entries
+            for key in ("frame", "joints", "home", "axes", "srdf"):
+                setattr(one, key, None)
+        out.append(robot_argument(one))
+    return out
+
+
 def result_robot(args: argparse.Namespace) -> Any:
     """The robot ``--robot`` (and the model options) name for a result file, or None: the file's own.
 

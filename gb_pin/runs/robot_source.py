@@ -88,7 +88,7 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return {"kind": "module", "spec": spec} if _printable(spec, MAX_TEXT) else None
     if not isinstance(target, KinematicTarget) or target.urdf is None:
         return None
-    common = {
+    common: dict[str, Any] = {
         "frame": target.frame,
         "joints": list(target.joints),
         "home": [float(v) for v in target.home],
