@@ -72,12 +72,14 @@ def check_directory(path: Any, what: str = "output folder") -> str:
 def fallback_path(path: str | os.PathLike[str]) -> str:
     """Where to put a finished result whose own path failed: the current directory, else the temp dir.
 
-    The name is ``path``'s, made unique (``name.1.npz``, ...), so no file is overwritten.
+    The name is ``path``'s, made unique (``name.1.npz``, ...), so no file is overwritten. The
+    directory that failed is not tried again (its disk may be full).
     """
     base = os.path.basename(os.fspath(path)) or "gb_pin_result"
     stem, ext = os.path.splitext(base)
+    failed = os.path.dirname(os.path.abspath(os.fspath(path)))
     for directory in (os.getcwd(), tempfile.gettempdir()):
-        if not os.access(directory, os.W_OK | os.X_OK):
+        if os.path.abspath(directory) == failed or not os.access(directory, os.W_OK | os.X_OK):
             continue
         for i in range(1000):
             candidate = os.path.join(directory, base if i == 0 else f"{stem}.{i}{ext}")

@@ -34,6 +34,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/llm_kernels.py",
     "learn/loop.py",
     "learn/metrics.py",
+    "learn/sensor.py",
     "learn/session_kernels.py",
     "learn/weighting.py",
     "robot/reachability.py",

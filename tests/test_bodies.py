@@ -99,6 +99,7 @@ def test_resume_keeps_the_change_schedule(tmp_path: Path) -> None:
     while part.movements < 60:
         q = part.ask()  # the body changes, if due, at the ask
         part.tell(part.state.chain.forward(q))
+    part.close()  # the session's lock on the file goes, as with a crash
     resumed = gb_pin.resume(path)
     _same_model(whole, resumed)
     np.testing.assert_array_equal(whole.history.error, resumed.history.error)

@@ -148,7 +148,7 @@ def test_selectors_choose_in_proportion_to_their_scores() -> None:
 def test_motor_postures_are_normal_around_home_within_the_limits() -> None:
     g = MotorGoals(spread=0.25).start(np.zeros((1, 2)))
     home = np.array([0.0, 1.0, -0.5])
-    limits = Limits(home, np.array([-np.inf, 0.9, -np.inf]), np.array([np.inf, 1.2, np.inf]))
+    limits = Limits(home, np.array([-np.inf, 0.9, -np.inf]), np.array([np.inf, 1.2, np.inf]), np.inf)
     rng = np.random.default_rng(2)
     assert is_motor(g) and not is_motor(UniformGoals().start(np.zeros((1, 2))))
     out = np.empty(3)

@@ -64,7 +64,7 @@ def test_bad_tells_and_asks_are_refused_and_change_nothing() -> None:
     q = session.ask()
     with pytest.raises(gb_pin.InvalidArgumentError, match="twice"):
         session.ask()
-    bads: list[object] = [[0.5], [np.nan, 0.0], [[0.5, 0.0]], "far", None]
+    bads: list[object] = [[0.5], [np.nan, 0.0], [[0.5, 0.0]], "far", np.array([0.5 + 1j, 0.0])]
     for bad in bads:
         with pytest.raises(gb_pin.InvalidArgumentError, match="position"):
             session.tell(bad)  # type: ignore[arg-type]
@@ -83,9 +83,13 @@ def test_a_checkpointed_session_resumes_exactly(tmp_path: Path) -> None:
     while session.movements < 45:
         session.tell(target.forward(session.ask()))
     session.ask()  # an unanswered ask: not saved, asked again after the resume
+    with pytest.raises(gb_pin.InvalidArgumentError, match="another run"):
+        resume_session(path)  # the live session holds the file
+    session.close()  # as a crash would (the lock dies with the process)
     again = resume_session(path)
     assert again.movements == 30
     _same(gb_pin.babble("planar5", movements=90, seed=6), _drive(again, target.forward))
+    again.close()
     assert gb_pin.resume(path).movements == 90
 
 
@@ -122,7 +126,12 @@ def test_function_target_checks_its_arguments() -> None:
     with pytest.raises(gb_pin.InvalidArgumentError, match="targets="):
         gb_pin.babble(robot, movements=3)
     with pytest.raises(gb_pin.InvalidArgumentError, match="compiled chain"):
-        gb_pin.babble(robot, movements=3, targets=[[0.1, 0.1]], checkpoint="x.npz")
+        gb_pin.babble(robot, movements=3, targets=[[0.1, 0.1]], viewer=_NoViewer())
+
+
+class _NoViewer:
+    def start(self, target: object, targets: object) -> None: ...
+    def update(self, state: object) -> None: ...
 
 
 def test_cli_babbles_a_robot_given_as_module_and_name(capsys) -> None:  # type: ignore[no-untyped-def]

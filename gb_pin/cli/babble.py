@@ -7,11 +7,13 @@ opens the viewer, babbles and prints the summary that README.md shows.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import threading
 import time
 from typing import TYPE_CHECKING, Any
 
+import gb_pin.cli.body_options as body_options
 from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
@@ -71,6 +73,7 @@ def _add_options(b: argparse.ArgumentParser) -> None:
     b.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
     add_learner_options(b)
     add_goal_options(b)
+    body_options.add_body_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     _add_checkpoint_options(b)
     _add_record_options(b)
@@ -136,6 +139,13 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidArgumentError(
             f"--resume continues the checkpoint's goals and sets; drop {', '.join(sorted(goal_args))}"
         )
+    if args.resume:
+        given = [o for o, v in (("--plant", args.plant), ("--sensor", args.sensor),
+                                ("--max-joint-step", args.max_joint_step)) if v is not None]  # fmt: skip
+        if given:
+            raise InvalidArgumentError(
+                f"--resume continues the checkpoint's robot and options: drop {', '.join(given)}"
+            )
     done, steps_before, wall_before = _read_resume(args)
     # --resume runs the checkpoint's robot: resume() loads its preset or rebuilds the model it records.
     # A preset stays a name; a URDF / erd model is built (and onboarded), a MODULE:NAME imported: a bad
@@ -145,6 +155,9 @@ def run(args: argparse.Namespace) -> int:
         robot = robot_argument(args)
     for line in onboarding_lines(robot):
         print(line, flush=True)
+    if not args.resume:
+        robot = body_options.plant(args, robot)  # --plant: the robot as it is, not its model
+        goal_args = {**goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step}
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
@@ -333,6 +346,12 @@ def _print_summary(
             print(f"  {line}")
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
+    if result.missing:
+        print(f"missing readings {result.missing} ({result.missing / max(result.steps, 1):.1%} of the steps)")
+    reach = result.history.reach
+    watched = getattr(args, "plant", None) or getattr(args, "sensor", None) or result.missing
+    if watched and reach is not None and reach.size and math.isfinite(float(reach[-1])):
+        print(f"reach (observed) {reach[-1]:.5f} m   median miss at the end of the last goal movements")
     steps_before, wall_before = before
     steps = result.steps - steps_before
     per_step = f"{1e6 * (result.wall_time - wall_before) / steps:.2f} us/step" if steps > 0 else "no steps"

@@ -1,11 +1,18 @@
 """Ask/tell stepping of a goal-babbling run: the robot executes each posture outside compiled code.
 
 :class:`AskTell` drives a :class:`~gb_pin.learn.state.BabbleState` one step at a time: :meth:`ask`
-returns the posture to execute, :meth:`tell` takes the observed task-space position and learns
-from it. The halves are the compiled :func:`~gb_pin.learn.session_kernels.ask_step` and
-:func:`~gb_pin.learn.session_kernels.tell_step`; everything between them lives in the state's
-arrays, so a checkpoint taken at any time resumes exactly (an unanswered ask is asked again,
-giving the same posture: computing it consumes no random numbers).
+returns the posture to execute, :meth:`tell` takes the observed task-space position (or None:
+the reading is missing) and learns from it. The halves are the compiled
+:func:`~gb_pin.learn.session_kernels.ask_step` and :func:`~gb_pin.learn.session_kernels.tell_step`;
+everything between them lives in the state's arrays, so a checkpoint taken at any time resumes
+exactly (an unanswered ask is asked again, giving the same posture: computing it consumes no
+random numbers).
+
+E^X (Eq. 9) at the schedule's counts comes from the robot's model (``evaluate="model"``: the
+compiled chain, or a Python forward function), from evaluation movements the robot executes
+(``"movements"``: the session asks the test postures g(x*) and learns nothing from them, see
+:mod:`gb_pin.learn.probe`), or not at all (``"none"``: NaN). D^home (Eq. 10) and the free
+measure of progress (the median reach error of the last goal-directed movements) need no robot.
 """
 
 from __future__ import annotations
@@ -19,10 +26,37 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.layout import MOVEMENT_DONE
+from gb_pin.learn.metrics import reach_median
 from gb_pin.learn.session_kernels import ask_step, evaluate_due, kernel_movement, tell_step
 from gb_pin.learn.state import BabbleState
 
 Forward = Callable[[NDArray[np.float64]], ArrayLike]
+EVALUATE_MODES = ("model", "movements", "none")
+
+
+def reading(x: Any, n: int) -> NDArray[np.float64] | None:
+    """An observation checked: a finite real (n,) vector [m], or None for a missing reading.
+
+    Raises:
+        InvalidArgumentError: anything else (a complex, wrongly shaped or non-finite reading).
+    """
+    if x is None:
+        return None
+    try:
+        raw = np.asarray(x)
+        if raw.dtype.kind not in "fiu" or raw.dtype == np.bool_:
+            raise TypeError(f"dtype {raw.dtype}")
+        arr = np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"x must be a real position of shape ({n},) [m] (or None: the reading is missing), got {x!r:.200}"
+        ) from exc
+    if arr.shape != (n,) or not np.isfinite(arr).all():
+        raise InvalidArgumentError(
+            f"x must be a finite position of shape ({n},) [m] (or None: the reading is missing), got "
+            f"{np.array2string(arr, threshold=20)} of shape {arr.shape}"
+        )
+    return arr
 
 
 class AskTell:
@@ -32,13 +66,23 @@ class AskTell:
         state: the run (fresh from :meth:`BabbleState.start`, or restored from a checkpoint).
         stop: movement count after which :meth:`ask` refuses (the run is complete).
         forward: the forward model used for E^X when the state has no compiled chain
-            (a robot given as a Python function); None: no E^X for such a state (NaN).
+            (a robot given as a Python function); None: no E^X from a model.
+        evaluate: ``"model"``, ``"movements"`` or ``"none"`` (see the module docstring).
     """
 
-    def __init__(self, state: BabbleState, stop: int, forward: Forward | None = None) -> None:
+    def __init__(
+        self, state: BabbleState, stop: int, forward: Forward | None = None, evaluate: str = "model"
+    ) -> None:
+        if evaluate not in EVALUATE_MODES:
+            raise InvalidArgumentError(
+                f"evaluate must be one of {', '.join(EVALUATE_MODES)}, got {evaluate!r}"
+            )
+        if evaluate == "model" and state.chain is None and forward is None:
+            evaluate = "none"  # nothing can compute E^X: the robot is on hardware
         self.state = state
         self.stop = int(stop)
         self.forward = forward
+        self.mode = evaluate
         self.pending = False
         self._build()
 
@@ -60,7 +104,8 @@ class AskTell:
         """The next posture q_t to execute, (m,), clipped to the joint limits ([rad] or [m]).
 
         Raises:
-            InvalidArgumentError: an ask still waiting for its :meth:`tell`, or the run is complete.
+            InvalidArgumentError: an ask still waiting for its :meth:`tell`, the run is complete, or
+                evaluation movements are due (:meth:`due` says which; the session executes them).
             DivergenceError: the estimate diverged.
         """
         if self.pending:
@@ -69,7 +114,8 @@ class AskTell:
             )
         st = self.state
         if st.istate[layout.KIND] == layout.NONE:
-            self.evaluate()
+            if self.evaluate() is not None:
+                raise InvalidArgumentError("evaluation movements are due before the next learning step")
             chain = st.chain
             st._apply_changes()
             if st.chain is not chain:
@@ -129,69 +175,107 @@ class AskTell:
             st._diverged()
         self._build()
 
-    def tell(self, x: ArrayLike) -> bool:
+    def tell(self, x: ArrayLike | None) -> bool:
         """Learn from the task-space position ``x`` (n,) [m] reached by the last asked posture.
+
+        ``x`` None: the reading is missing (the tracker lost the hand). Nothing is learnt from
+        the step; the movement goes on and t advances.
 
         Returns:
             True when this step completed a movement.
 
         Raises:
-            InvalidArgumentError: no ask waiting, or ``x`` not a finite vector of shape (n,);
-                nothing is changed then.
+            InvalidArgumentError: no ask waiting, or ``x`` neither None nor a finite real vector of
+                shape (n,); nothing is changed then.
         """
         if not self.pending:
             raise InvalidArgumentError("tell(x) without ask(): ask() for a posture first")
-        try:
-            arr = np.asarray(x, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InvalidArgumentError(f"x must be a position of shape ({self._n},) [m], got {x!r}") from exc
-        if arr.shape != (self._n,) or not np.isfinite(arr).all():
-            raise InvalidArgumentError(
-                f"x must be a finite position of shape ({self._n},) [m], got {np.array2string(arr)} "
-                f"of shape {arr.shape}"
-            )
-        self._x[:] = arr
+        arr = reading(x, self._n)
+        if arr is not None:
+            self._x[:] = arr
         self.pending = False
         st = self.state
-        return bool(tell_step(st.rng, self._learner, self._run, self._rec) == MOVEMENT_DONE)
+        return bool(tell_step(st.rng, self._learner, self._run, self._rec, arr is not None) == MOVEMENT_DONE)
 
     def sync(self) -> None:
         """Bring the map's Python side up to the compiled counters (before reading or saving it)."""
         self.state.llm.set_count(int(self.state.istate[layout.PROTOTYPES]))
 
-    def evaluate(self) -> None:
-        """E^X and D^home at the schedule entries due now (between movements only)."""
+    def evaluate(self) -> int | None:
+        """E^X, D^home and the reach median at the schedule entries due now (between movements only).
+
+        Returns:
+            None, or with ``evaluate="movements"`` the schedule index whose E^X awaits evaluation
+            movements (recorded by :meth:`record_evaluation`; the cursor stays there until then).
+        """
         st = self.state
         if st.istate[layout.KIND] != layout.NONE:
-            return
-        if st.chain is not None:
+            return None
+        if st.chain is not None and self.mode == "model":
             evaluate_due(self._learner, self._robot, self._run, self._monitor.evaluation)
         else:
             r = st.movements
             c = int(st.istate[layout.EVAL_CURSOR])
             while c < st.schedule.shape[0] and st.schedule[c] <= r:
-                if st.schedule[c] == r and self.forward is not None:
-                    st.errors[c], st.distances[c] = self._evaluate_python()
+                if st.schedule[c] == r:
+                    if self.mode == "movements":
+                        st.istate[layout.EVAL_CURSOR] = c
+                        return c
+                    error = self._evaluate_python() if self.mode == "model" else np.nan
+                    self._record(c, error)
                 c += 1
             st.istate[layout.EVAL_CURSOR] = c
+        self._after_evaluation()
+        return None
+
+    def record_evaluation(self, c: int, error: float) -> None:
+        """E^X measured by evaluation movements for the due schedule entry ``c``; the cursor moves on."""
+        st = self.state
+        if int(st.istate[layout.EVAL_CURSOR]) != c or st.schedule[c] != st.movements:
+            raise InvalidArgumentError(f"schedule entry {c} is not the one due at movement {st.movements}")
+        self._record(c, error)
+        st.istate[layout.EVAL_CURSOR] = c + 1
+        self.evaluate()  # later entries of the same count (none in a valid schedule) and until_error
+
+    def _record(self, c: int, error: float) -> None:
+        st = self.state
+        self.sync()
+        st.errors[c] = error
+        st.distances[c] = float(np.mean(np.linalg.norm(st.home - self.predict(st.eval_targets), axis=1)))
+        st.reaches[c] = reach_median(st.reach, int(st.istate[layout.REACHES]))
+
+    def _after_evaluation(self) -> None:
+        st = self.state
         if st.reached and st.schedule.shape[0] > st.istate[layout.EVAL_CURSOR]:
             st._end_at_cursor()  # until_error reached: the run ends here
             self._build()
 
-    def _evaluate_python(self) -> tuple[float, float]:
-        """(E^X, D^home) with the Python forward model (Eqs. 9, 10)."""
+    def predict(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        """g(x*) of the current map for targets (N, n) (unclipped)."""
+        self.sync()
+        return self.state.llm.predict(X, warn=False)
+
+    def _evaluate_python(self) -> float:
+        """E^X with the Python forward model (Eq. 9) over the postures clipped to the limits."""
         assert self.forward is not None
         st = self.state
-        self.sync()
-        Q = st.llm.predict(st.eval_targets, warn=False)
-        distance = float(np.mean(np.linalg.norm(st.home - Q, axis=1)))
-        Qc = np.clip(Q, st.lower, st.upper)
-        X = np.array([np.asarray(self.forward(q), dtype=float) for q in Qc]).reshape(st.eval_targets.shape)
-        return float(np.mean(np.linalg.norm(st.eval_targets - X, axis=1))), distance
+        Qc = np.clip(self.predict(st.eval_targets), st.lower, st.upper)
+        X = np.empty_like(st.eval_targets)
+        for i, q in enumerate(Qc):
+            value = np.asarray(self.forward(q), dtype=float)
+            if value.shape != (self._n,) or not np.all(np.isfinite(value)):
+                raise InvalidArgumentError(
+                    f"the forward model {self.forward!r:.80} returned {value.tolist()!r:.120} at the "
+                    "evaluation "
+                    f"posture {q.tolist()!r:.120}: a finite position of shape ({self._n},) was expected"
+                )
+            X[i] = value
+        return float(np.mean(np.linalg.norm(st.eval_targets - X, axis=1)))
 
     def finish(self) -> None:
         """At the end of a run: E^X due now, and body changes due now applied (as ``BabbleState.run``)."""
-        self.evaluate()
+        if self.evaluate() is not None:
+            return  # evaluation movements still to execute
         if self.state.istate[layout.KIND] == layout.NONE:
             self.state._apply_changes()
         self.sync()

@@ -23,12 +23,17 @@ class History:
         components: (T, C) for a stacked task: E^X split by task component ([m] for a
             position, [deg] for an orientation or pointing direction; see
             :mod:`gb_pin.learn.component_metrics`); None for the paper's position task.
+        reach: (T,) the free measure of progress [m]: the median reach error ||x_L - x*_L|| the
+            robot observed at the end of its last goal-directed movements (a window of 50 by
+            default), measured with no extra movement; it includes the sensor's noise. NaN before
+            the first such movement; None in files written before it existed.
     """
 
     movements: NDArray[np.int64]
     error: NDArray[np.float64]
     home_distance: NDArray[np.float64]
     components: NDArray[np.float64] | None = None
+    reach: NDArray[np.float64] | None = None
 
     def at(self, movements: int) -> tuple[float, float]:
         """(E^X, D^home) at a recorded movement count."""

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from gb_pin.learn.body.chain import Body
 from gb_pin.learn.goals.base import GoalArrays
 from gb_pin.learn.llm_kernels import MapArrays, Scratch
+from gb_pin.learn.sensor import NoSensorArrays, SensorArrays
 
 # Indices into the int64 counters (Run.counters), saved in checkpoints as "istate".
 MOVEMENTS = 0  # r: completed movements, home returns included
@@ -25,7 +26,10 @@ PROTOTYPES = 4  # K
 EVAL_CURSOR = 5  # next entry of the evaluation schedule
 STEPS = 6  # total steps t
 RECORDED = 7  # entries written to the recording buffers
-ISTATE_SIZE = 8
+REACHES = 8  # goal-directed movements whose end was observed (entries written to Run.reach)
+MISSING = 9  # steps whose reading was missing (nothing learnt from them)
+ISTATE_SIZE = 10
+OLD_ISTATE_SIZE = 8  # files written before the reach ring and missing readings
 
 # Movement kinds.
 NONE = -1
@@ -58,11 +62,16 @@ class Hyper(NamedTuple):
 
 
 class Limits(NamedTuple):
-    """Home posture and joint limits, (m,) each ([rad] or [m]; +-inf where unbounded)."""
+    """Home posture and joint limits, (m,) each ([rad] or [m]; +-inf where unbounded).
+
+    ``max_step``: no step moves a joint farther than this from the last executed posture
+    ([rad] or [m]; +inf: no limit).
+    """
 
     home: NDArray[np.float64]
     lower: NDArray[np.float64]
     upper: NDArray[np.float64]
+    max_step: float
 
 
 class Noise(NamedTuple):
@@ -82,26 +91,32 @@ class Learner(NamedTuple):
 
 
 class Robot(NamedTuple):
-    """What is learnt about: limits and the compiled forward kinematics."""
+    """What is learnt about: limits, the compiled forward kinematics and what observes it.
+
+    ``sensor``: :data:`~gb_pin.learn.sensor.NO_SENSOR` (x = f(q) exactly, the paper's) or a
+    :class:`~gb_pin.learn.sensor.SensorArrays` (noisy readings, some missing).
+    """
 
     limits: Limits
     body: Body
+    sensor: NoSensorArrays | SensorArrays
 
 
 class Motion(NamedTuple):
     """Where the run is: the previous step, the current path, and per-step scratch buffers.
 
     Attributes:
-        q_prev: (m,) the last executed posture.
+        q_prev: (m,) the posture of the last observed step (Eqs. 4, 5 compare with it).
         q_start: (m,) start of the current joint-space movement (home return, motor babbling).
         q_end: (m,) end of the current joint-space movement (q_home, or a random posture).
-        x_prev: (n,) the last reached position.
-        target_prev: (n,) the last goal-directed target.
+        x_prev: (n,) the last observed position.
+        target_prev: (n,) the target of the last observed goal-directed step.
         path_start: (n,) start of the current target path (Eq. 3).
         path_end: (n,) end of the current target path (the goal).
         q: (m,) scratch: this step's posture.
         x: (n,) scratch: this step's position.
         target: (n,) scratch: this step's target.
+        q_exec: (m,) the last executed posture (q_prev unless readings went missing since).
     """
 
     q_prev: NDArray[np.float64]
@@ -114,13 +129,19 @@ class Motion(NamedTuple):
     q: NDArray[np.float64]
     x: NDArray[np.float64]
     target: NDArray[np.float64]
+    q_exec: NDArray[np.float64]
 
 
 class Run(NamedTuple):
-    """The run's mutable state: the motion and the int64 counters (indices above)."""
+    """The run's mutable state: the motion, the int64 counters (indices above), and ``reach``.
+
+    ``reach`` (W,): a ring of the last W reach errors ||x_L - x*_L|| observed at the end of
+    goal-directed movements [m] (entry ``counters[REACHES] % W`` is written next).
+    """
 
     motion: Motion
     counters: NDArray[np.int64]
+    reach: NDArray[np.float64]
 
 
 class Evaluation(NamedTuple):
@@ -128,6 +149,7 @@ class Evaluation(NamedTuple):
 
     ``components`` (T, C): E^X per task component of a stacked task (C = 0 for the paper's).
     ``until``: the run stops (REACHED) at the first evaluation with E^X <= until (-inf: never).
+    ``reach`` (T,): the median of the run's reach ring (:class:`Run`) at each count [m].
     """
 
     at: NDArray[np.int64]
@@ -136,6 +158,7 @@ class Evaluation(NamedTuple):
     distances: NDArray[np.float64]
     components: NDArray[np.float64]
     until: float
+    reach: NDArray[np.float64]
 
 
 class Recorder(NamedTuple):

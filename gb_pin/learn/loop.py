@@ -23,6 +23,7 @@ from gb_pin.learn.layout import (
     KIND,
     LAST_KIND,
     MAX_POSTURE,
+    MISSING,
     MOVEMENTS,
     NEED_CAPACITY,
     NEED_GOAL,
@@ -31,12 +32,14 @@ from gb_pin.learn.layout import (
     NOT_FINITE,
     PROTOTYPES,
     REACHED,
+    REACHES,
     RECORDED,
     STEP,
     STEPS,
 )
 from gb_pin.learn.llm_kernels import llm_learn, llm_predict
-from gb_pin.learn.metrics import evaluate_model
+from gb_pin.learn.metrics import evaluate_model, reach_median
+from gb_pin.learn.sensor import observe
 from gb_pin.learn.weighting import direction_weight, efficiency_weight
 
 
@@ -92,6 +95,7 @@ def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyp
             )  # fmt: skip
             evaluation.errors[c] = e
             evaluation.distances[c] = d
+            evaluation.reach[c] = reach_median(run.reach, counters[REACHES])
             reached = reached or e <= evaluation.until
         c += 1
     counters[EVAL_CURSOR] = c
@@ -117,13 +121,13 @@ def begin_movement(rng, p_home, limits, run, goals):  # type: ignore[no-untyped-
     if after_goal and rng.random() < p_home:
         counters[KIND] = HOME
         for i in range(mo.q_start.shape[0]):
-            mo.q_start[i] = mo.q_prev[i]
+            mo.q_start[i] = mo.q_exec[i]
             mo.q_end[i] = limits.home[i]
         return True
     if is_motor(goals):
         counters[KIND] = BABBLE
         for i in range(mo.q_start.shape[0]):
-            mo.q_start[i] = mo.q_prev[i]
+            mo.q_start[i] = mo.q_exec[i]
         motor_posture(goals, rng, limits, mo.q_end)
         return True
     counters[KIND] = GOAL
@@ -149,14 +153,16 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
     counters = run.counters
     mo = run.motion
     q, x, target = mo.q, mo.x, mo.target
-    q_prev, q_start, q_end = mo.q_prev, mo.q_start, mo.q_end
+    q_prev, q_start, q_end, q_exec = mo.q_prev, mo.q_start, mo.q_end, mo.q_exec
     x_prev, target_prev = mo.x_prev, mo.target_prev
     path_start, path_end = mo.path_start, mo.path_end
     hyper = learner.hyper
     lm, scratch = learner.lm, learner.scratch
     A, b = learner.noise.A, learner.noise.b
     lower, upper = robot.limits.lower, robot.limits.upper
-    body = robot.body
+    max_step = robot.limits.max_step
+    limited = max_step < math.inf
+    body, sensor = robot.body, robot.sensor
     eta, sigma, sigma_delta = hyper.learning_rate, hyper.sigma, hyper.sigma_delta
     capacity = lm.prototypes.shape[0]
     L = hyper.path_length
@@ -191,37 +197,71 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
             q[i] = min(max(q[i], lower[i]), upper[i])  # the robot executes the clipped posture
         if not finite:
             return NOT_FINITE
+        if limited:
+            limit_step(q, q_exec, max_step)
         body_forward(q, body, x)  # Eq. 1
+        observed = observe(sensor, x)  # the reading: x itself without a sensor (the paper's)
         if recording:
-            record_step(counters, rec, q, x, target, kind)
-        w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
-        if kind == GOAL:
-            w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6
-        counters[PROTOTYPES] = llm_learn(x, q, w, eta, lm, counters[PROTOTYPES], scratch)
+            record_step(counters, rec, q, x, target, kind, observed)
+        if observed:
+            w = efficiency_weight(x, x_prev, q, q_prev)  # Eq. 5
+            if kind == GOAL:
+                w *= direction_weight(target, target_prev, x, x_prev)  # Eqs. 4, 6
+            counters[PROTOTYPES] = llm_learn(x, q, w, eta, lm, counters[PROTOTYPES], scratch)
+        else:
+            counters[MISSING] += 1
         noise_walk(rng, sigma, sigma_delta, A, b)
         for i in range(m):
-            q_prev[i] = q[i]
-        for j in range(n):
-            x_prev[j] = x[j]
-            if kind == GOAL:
-                target_prev[j] = target[j]
+            q_exec[i] = q[i]
+            if observed:
+                q_prev[i] = q[i]
+        if observed:
+            for j in range(n):
+                x_prev[j] = x[j]
+                if kind == GOAL:
+                    target_prev[j] = target[j]
         counters[STEP] = step
         counters[STEPS] += 1
         if step == L:
-            if kind != GOAL:
-                # The next goal path starts at f(q_home), which is where the arm is.
-                for j in range(n):
-                    path_end[j] = x[j]
-                    target_prev[j] = x[j]
-            counters[LAST_KIND] = kind
-            counters[KIND] = NONE
-            counters[MOVEMENTS] += 1
+            end_movement(counters, mo, run.reach, kind, observed)
             return DONE
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def record_step(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-def]
-    """Write this step to the recording buffers (target NaN during home returns)."""
+def limit_step(q, q_exec, max_step):  # type: ignore[no-untyped-def]
+    """No joint moves farther than ``max_step`` from the last executed posture (in place)."""
+    for i in range(q.shape[0]):
+        q[i] = min(max(q[i], q_exec[i] - max_step), q_exec[i] + max_step)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def end_movement(counters, mo, reach, kind, observed):  # type: ignore[no-untyped-def]
+    """Close the movement: after a joint-space one the next path starts where the arm was last seen.
+
+    At the end of a goal-directed movement whose last reading arrived, its reach error
+    ||x_L - x*_L|| goes to the reach ring (the free measure of progress, no extra movement).
+    """
+    n = mo.x_prev.shape[0]
+    if kind != GOAL:
+        # The next goal path starts at f(q_home), which is where the arm is.
+        for j in range(n):
+            mo.path_end[j] = mo.x_prev[j]
+            mo.target_prev[j] = mo.x_prev[j]
+    elif observed:
+        e = 0.0
+        for j in range(n):
+            v = mo.x_prev[j] - mo.path_end[j]
+            e += v * v
+        reach[counters[REACHES] % reach.shape[0]] = math.sqrt(e)
+        counters[REACHES] += 1
+    counters[LAST_KIND] = kind
+    counters[KIND] = NONE
+    counters[MOVEMENTS] += 1
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def record_step(counters, rec, q, x, target, kind, observed):  # type: ignore[no-untyped-def]
+    """Write this step to the recording buffers (target NaN during home returns, position NaN if missing)."""
     c = counters[RECORDED]
     rec.step[c] = counters[STEPS] + 1
     rec.movement[c] = counters[MOVEMENTS]
@@ -229,5 +269,5 @@ def record_step(counters, rec, q, x, target, kind):  # type: ignore[no-untyped-d
         rec.posture[c, i] = q[i]
     for j in range(x.shape[0]):
         rec.target[c, j] = target[j] if kind == GOAL else math.nan
-        rec.position[c, j] = x[j]
+        rec.position[c, j] = x[j] if observed else math.nan
     counters[RECORDED] = c + 1

@@ -40,7 +40,7 @@ def evaluate_model(targets, limits, body, lm, K, q, x, components):  # type: ign
         x: (n,) scratch.
         components: (C,) output, E^X per component (C = 0 for the paper's task).
     """
-    home, lower, upper = limits
+    home, lower, upper = limits.home, limits.lower, limits.upper
     m = home.shape[0]
     n = targets.shape[1]
     error = 0.0
@@ -67,6 +67,22 @@ def evaluate_model(targets, limits, body, lm, K, q, x, components):  # type: ign
     for c in range(components.shape[0]):
         components[c] /= count
     return error / count, distance / count
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def reach_median(ring, count):  # type: ignore[no-untyped-def]
+    """The median of the last min(count, W) reach errors of the ring (W,) [m]; NaN before any.
+
+    The free measure of progress: what the robot's own observations say of its reaching, at the
+    end of each goal-directed movement, with no extra movement (sensor noise included).
+    """
+    k = min(count, ring.shape[0])
+    if k == 0:
+        return math.nan
+    values = np.sort(ring[:k])
+    if k % 2 == 1:
+        return values[k // 2]
+    return 0.5 * (values[k // 2 - 1] + values[k // 2])
 
 
 def evaluation_schedule(movements: int, dense_until: int = 1000, per_decade: int = 50) -> NDArray[np.int64]:

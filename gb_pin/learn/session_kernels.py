@@ -13,14 +13,16 @@ run driven by the chain's own forward kinematics is bit-identical to ``babble_lo
 
 from __future__ import annotations
 
+import math
+
 from gb_pin._jit import njit
 from gb_pin.learn.exploration import noise_add, noise_walk
 from gb_pin.learn.layout import (
     DONE,
     GOAL,
     KIND,
-    LAST_KIND,
     MAX_POSTURE,
+    MISSING,
     MOVEMENT_DONE,
     MOVEMENTS,
     NEED_CAPACITY,
@@ -35,7 +37,7 @@ from gb_pin.learn.layout import (
     STEPS,
 )
 from gb_pin.learn.llm_kernels import llm_learn, llm_predict
-from gb_pin.learn.loop import begin_movement, evaluate_schedule, record_step
+from gb_pin.learn.loop import begin_movement, end_movement, evaluate_schedule, limit_step, record_step
 from gb_pin.learn.weighting import direction_weight, efficiency_weight
 
 
@@ -98,12 +100,17 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
         q[i] = min(max(q[i], lower[i]), upper[i])
     if not finite:
         return NOT_FINITE
+    if limits.max_step < math.inf:
+        limit_step(q, mo.q_exec, limits.max_step)
     return DONE
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
+def tell_step(rng, learner, run, rec, observed):  # type: ignore[no-untyped-def]
     """The second half of a step, with the observed position in ``run.motion.x`` (Eqs. 4-6, 8).
+
+    ``observed`` False: the reading is missing; nothing is learnt from the step, the noise
+    walks and the movement goes on (as the loop does with a sensor that lost a reading).
 
     Returns:
         MOVEMENT_DONE when the step completed the movement, else STEP_DONE.
@@ -115,7 +122,7 @@ def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
     counters = run.counters
     mo = run.motion
     q, x, target = mo.q, mo.x, mo.target
-    q_prev, x_prev, target_prev = mo.q_prev, mo.x_prev, mo.target_prev
+    q_prev, x_prev, target_prev, q_exec = mo.q_prev, mo.x_prev, mo.target_prev, mo.q_exec
     hyper = learner.hyper
     lm = learner.lm
     kind = counters[KIND]
@@ -125,28 +132,30 @@ def tell_step(rng, learner, run, rec):  # type: ignore[no-untyped-def]
     step = counters[STEP] + 1
     recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
     if recording:
-        record_step(counters, rec, q, x, target, kind)
-    w = efficiency_weight(x, x_prev, q, q_prev)
-    if kind == GOAL:
-        w *= direction_weight(target, target_prev, x, x_prev)
-    counters[PROTOTYPES] = llm_learn(x, q, w, hyper.learning_rate, lm, counters[PROTOTYPES], learner.scratch)
+        record_step(counters, rec, q, x, target, kind, observed)
+    if observed:
+        w = efficiency_weight(x, x_prev, q, q_prev)
+        if kind == GOAL:
+            w *= direction_weight(target, target_prev, x, x_prev)
+        counters[PROTOTYPES] = llm_learn(
+            x, q, w, hyper.learning_rate, lm, counters[PROTOTYPES], learner.scratch
+        )
+    else:
+        counters[MISSING] += 1
     noise_walk(rng, hyper.sigma, hyper.sigma_delta, learner.noise.A, learner.noise.b)
     for i in range(m):
-        q_prev[i] = q[i]
-    for j in range(n):
-        x_prev[j] = x[j]
-        if kind == GOAL:
-            target_prev[j] = target[j]
+        q_exec[i] = q[i]
+        if observed:
+            q_prev[i] = q[i]
+    if observed:
+        for j in range(n):
+            x_prev[j] = x[j]
+            if kind == GOAL:
+                target_prev[j] = target[j]
     counters[STEP] = step
     counters[STEPS] += 1
     if step == L:
-        if kind != GOAL:
-            for j in range(n):
-                mo.path_end[j] = x[j]
-                target_prev[j] = x[j]
-        counters[LAST_KIND] = kind
-        counters[KIND] = NONE
-        counters[MOVEMENTS] += 1
+        end_movement(counters, mo, run.reach, kind, observed)
         return MOVEMENT_DONE
     return STEP_DONE
 
@@ -165,5 +174,5 @@ def kernel_movement(rng, learner, limits, run, goals, rec, forward):  # type: ig
         if status != DONE:
             return status
         forward(run.motion.q, run.motion.x)
-        if tell_step(rng, learner, run, rec) == MOVEMENT_DONE:
+        if tell_step(rng, learner, run, rec, True) == MOVEMENT_DONE:
             return MOVEMENT_DONE

@@ -50,16 +50,19 @@ def state_to_arrays(st: BabbleState) -> dict[str, NDArray[Any]]:
         "goal_istate": st.goal_state.istate,
         "goal_fstate": st.goal_state.fstate,
         "until_error": np.array(np.nan if st.until_error is None else st.until_error),
+        "max_joint_step": np.array(st.max_step),
+        "reach": st.reach,
+        "reaches": st.reaches,
     }
+    if st.sensor is not None:  # its generator's state goes to the file's header (sensor_rng)
+        out["sensor_std"] = st.sensor.std
+        out["sensor_loss"] = np.array(st.sensor.loss)
     for key in st.VECTORS:
         out[key] = st.vectors[key]
     for key, arr in st.rec.items():
         out["rec_" + key] = arr[:c]
-    if st.chain is None:
-        raise InvalidArgumentError(
-            "a run on a Python forward model (no compiled chain) cannot be checkpointed"
-        )
-    out.update(st.chain.to_arrays())
+    if st.chain is not None:  # a robot given as a function or on hardware has none
+        out.update(st.chain.to_arrays())
     if st.changes:
         out["change_movements"] = np.array([at for at, _ in st.changes], dtype=np.int64)
         for i, (_, chain) in enumerate(st.changes):
@@ -100,11 +103,20 @@ def _rng(rng_state: Any) -> np.random.Generator:
 
 
 def state_from_arrays(
-    st: BabbleState, arrays: dict[str, Any], config: BabbleConfig, rng_state: Any, goals: GoalGenerator
+    st: BabbleState,
+    arrays: dict[str, Any],
+    config: BabbleConfig,
+    rng_state: Any,
+    goals: GoalGenerator,
+    sensor_rng: Any = None,
 ) -> BabbleState:
-    """Fill ``st`` from the arrays of :func:`state_to_arrays`, validating every one of them."""
+    """Fill ``st`` from the arrays of :func:`state_to_arrays`, validating every one of them.
+
+    ``sensor_rng``: the sensor generator's state, for a run with a sensor model.
+    """
     try:
         _fill(st, arrays, config, rng_state, goals)
+        _fill_extras(st, arrays, sensor_rng)
     except KeyError as exc:
         raise InvalidArgumentError(f"incomplete babbling state (missing {exc})") from exc
     except (TypeError, ValueError, OverflowError) as exc:
@@ -119,8 +131,16 @@ def _fill(
 ) -> None:
     st.config = config
     st.rng = _rng(rng_state)
-    chain = st.chain = KinematicChain.from_arrays(arrays)
-    m, n = chain.n_joints, chain.n_task
+    if "chain_parents" in arrays:
+        chain = st.chain = KinematicChain.from_arrays(arrays)
+        m, n, C = chain.n_joints, chain.n_task, chain.n_components
+    else:  # a robot given as a Python function or on hardware: no compiled chain
+        st.chain = None
+        m = np.shape(arrays["home"])[0] if np.ndim(arrays["home"]) == 1 else 0
+        n = np.shape(arrays["targets"])[1] if np.ndim(arrays["targets"]) == 2 else 0
+        C = 0
+        if m < 1 or n < 1:
+            raise InvalidArgumentError("home and targets must give at least one joint and one task axis")
     st.home = _real(arrays, "home", (m,))
     st.lower = _real(arrays, "lower", (m,), finite=False)
     st.upper = _real(arrays, "upper", (m,), finite=False)
@@ -136,7 +156,6 @@ def _fill(
         raise InvalidArgumentError("schedule must be increasing movement counts >= 0")
     st.errors = _real(arrays, "errors", (T,), finite=False)
     st.distances = _real(arrays, "distances", (T,), finite=False)
-    C = chain.n_components
     # Files written before per-component histories have none: not measured (NaN).
     fresh_components = np.full((T, C), np.nan)
     st.components = (
@@ -150,8 +169,13 @@ def _fill(
     st.b = _real(arrays, "noise_b", (m,))
     # Files written before motor babbling have no q_end: it was always q_home then.
     st.vectors = {k: _real(arrays, k, (m,) if k.startswith("q") else (n,))
-                  for k in st.VECTORS if k in arrays or k != "q_end"}  # fmt: skip
+                  for k in st.VECTORS if k in arrays or k not in ("q_end", "q_exec")}  # fmt: skip
     st.vectors.setdefault("q_end", st.home.copy())
+    # Files written before missing readings existed: the last executed posture was the observed one.
+    st.vectors.setdefault("q_exec", st.vectors["q_prev"].copy())
+    if np.shape(arrays["istate"]) == (layout.OLD_ISTATE_SIZE,):  # before the reach ring and missing readings
+        pad = np.zeros(layout.ISTATE_SIZE - layout.OLD_ISTATE_SIZE, dtype=np.asarray(arrays["istate"]).dtype)
+        arrays = {**arrays, "istate": np.concatenate([np.asarray(arrays["istate"]), pad])}
     st.istate = _ints(arrays, "istate", (layout.ISTATE_SIZE,))
     record = _ints(arrays, "record", (3,))
     st.record = (int(record[0]), int(record[1]), int(record[2]))
@@ -189,6 +213,36 @@ def _fill(
         }
         st.set_changes(chains)
     _check_counters(st, K, R, T)
+
+
+def _fill_extras(st: BabbleState, arrays: dict[str, Any], sensor_rng: Any) -> None:
+    """The joint-step limit, the reach ring and the sensor (absent from files written before them)."""
+    T = st.schedule.shape[0]
+    st.max_step = np.inf
+    if "max_joint_step" in arrays:
+        step = float(_real(arrays, "max_joint_step", (), finite=False))
+        if not step > 0:
+            raise InvalidArgumentError(f"max_joint_step must be > 0 (inf: none), got {step!r}")
+        st.max_step = step
+    W = np.shape(arrays["reach"])[0] if "reach" in arrays and np.ndim(arrays["reach"]) == 1 else 50
+    if not 1 <= W <= 10**6:
+        raise InvalidArgumentError(f"reach window must hold 1 to 10^6 entries, got {W}")
+    st.reach = _real(arrays, "reach", (W,)) if "reach" in arrays else np.zeros(W)
+    if np.any(st.reach < 0):
+        raise InvalidArgumentError("reach errors must be >= 0")
+    st.reaches = _real(arrays, "reaches", (T,), finite=False) if "reaches" in arrays else np.full(T, np.nan)
+    if st.istate[layout.REACHES] < 0 or st.istate[layout.MISSING] < 0:
+        raise InvalidArgumentError("the counts of observed reaches and missing readings must be >= 0")
+    st.sensor = None
+    if "sensor_std" in arrays:
+        n = st.targets.shape[1]
+        std = _real(arrays, "sensor_std", (n,))
+        loss = float(_real(arrays, "sensor_loss", ()))
+        if np.any(std < 0) or not 0.0 <= loss < 1.0:
+            raise InvalidArgumentError(f"sensor noise must be >= 0 and its loss in [0, 1), got loss {loss!r}")
+        from gb_pin.learn.sensor import SensorArrays
+
+        st.sensor = SensorArrays(std, loss, _rng(sensor_rng))
 
 
 def _check_counters(st: BabbleState, K: int, R: int, T: int) -> None:

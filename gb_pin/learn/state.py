@@ -20,6 +20,10 @@ from gb_pin.learn.history import History, RecordedSteps, Recording
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.loop import babble_loop
 from gb_pin.learn.metrics import evaluation_schedule
+from gb_pin.learn.sensor import NO_SENSOR, Sensor, SensorArrays, observe_into
+
+REACH_WINDOW = 50
+"""Goal-directed movements over which the free measure of progress is a running median."""
 
 
 class BabbleState:
@@ -31,7 +35,7 @@ class BabbleState:
     one (same joints and task dimension), e.g. grown links or a tool.
     """
 
-    VECTORS = ("q_prev", "q_start", "q_end", "x_prev", "target_prev", "path_start", "path_end")
+    VECTORS = ("q_prev", "q_start", "q_end", "x_prev", "target_prev", "path_start", "path_end", "q_exec")
     REC_DTYPES: ClassVar[dict[str, type]] = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
 
     def __init__(self) -> None:
@@ -58,6 +62,10 @@ class BabbleState:
         self.goal_state: GoalArrays
         self.changes: list[tuple[int, KinematicChain]] = []
         self.until_error: float | None = None
+        self.max_step: float = np.inf
+        self.sensor: SensorArrays | None = None
+        self.reach: NDArray[np.float64] = np.zeros(REACH_WINDOW)
+        self.reaches: NDArray[np.float64]
 
     @classmethod
     def start(
@@ -74,14 +82,28 @@ class BabbleState:
         goals: str | GoalGenerator | None = None,
         changes: dict[int, Kinematics] | None = None,
         until_error: float | None = None,
+        max_joint_step: float | None = None,
+        sensor: Sensor | None = None,
+        reach_window: int = REACH_WINDOW,
+        home_position: ArrayLike | None = None,
     ) -> BabbleState:
         """A fresh run at movement 0: the estimate is the constant q_home (paper Sec. II).
 
         ``until_error``: the run ends at the first evaluation with E^X <= this level [m].
+        ``max_joint_step``: no step moves a joint farther than this from the last executed
+        posture ([rad] or [m]; None: no limit). ``sensor``: what observes x (noise, missing
+        readings; None: x = f(q) exactly, or the robot's own ``sensor``). ``reach_window``: the
+        goal-directed movements over which the free measure of progress (the median reach
+        error, ``History.reach``) is taken. ``home_position``: f(q_home) as observed, for a robot
+        whose forward kinematics gb_pin cannot compute (a robot on hardware).
         """
         movements = check.positive_int("movements", movements)
         st = cls()
         st.until_error = None if until_error is None else check.positive_float("until_error", until_error)
+        st.max_step = (
+            np.inf if max_joint_step is None else check.positive_float("max_joint_step", max_joint_step)
+        )
+        st.reach = np.zeros(check.positive_int("reach_window", reach_window, 1, 10**6))
         st.rng = check.generator(seed)
         st.config = config
         # A robot given as a Python forward model has no compiled chain (ask/tell runs only).
@@ -99,15 +121,20 @@ class BabbleState:
         st.distances = np.full(st.schedule.shape[0], np.nan)
         C = 0 if st.chain is None else st.chain.n_components  # no chain: a Python forward model
         st.components = np.full((st.schedule.shape[0], C), np.nan)
+        st.reaches = np.full(st.schedule.shape[0], np.nan)
         st.goals = make_goals(goals)
         st.goal_state = st.goals.start(st.targets)
         st.set_changes(changes or {})
-
-        x_home = (
-            st.chain.forward(st.home)
-            if st.chain is not None
-            else check.vector("forward(home)", kinematics.forward(st.home.copy()), n)  # type: ignore[attr-defined]
-        )
+        sensor = sensor if sensor is not None else getattr(kinematics, "sensor", None)
+        if sensor is not None and not isinstance(sensor, Sensor):
+            raise InvalidArgumentError(f"sensor must be a gb_pin Sensor or None, got {sensor!r}")
+        if sensor is not None and st.chain is None:
+            raise InvalidArgumentError(
+                "a sensor model needs a robot with compiled kinematics; a robot given as a function "
+                "or on hardware returns its readings itself"
+            )
+        st.sensor = None if sensor is None or sensor.ideal else sensor.start(n)
+        x_home = st._home_position(kinematics, home_position, n)
         st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
             x_home, st.home
         )
@@ -169,6 +196,23 @@ class BabbleState:
             out.append((at, chain))
         self.changes = out
 
+    def _home_position(self, kinematics: Any, given: ArrayLike | None, n: int) -> NDArray[np.float64]:
+        """f(q_home) as the learner first sees it: given, observed through the sensor, or computed."""
+        if given is not None:
+            return check.vector("home_position", given, n)
+        if self.chain is None:
+            return check.vector("forward(home)", kinematics.forward(self.home.copy()), n)
+        x = self.chain.forward(self.home)
+        if self.sensor is None:
+            return x
+        for _ in range(1000):  # a reading of home that arrives (the loss is < 1)
+            reading = x.copy()
+            if observe_into(self.sensor, reading):
+                return reading
+        raise InvalidArgumentError(
+            f"the sensor lost 1000 readings of home in a row (loss {self.sensor.loss})"
+        )
+
     @property
     def reached(self) -> bool:
         """True once an evaluation found E^X <= ``until_error``: the run is over."""
@@ -186,6 +230,11 @@ class BabbleState:
     def steps(self) -> int:
         """Completed time steps t."""
         return int(self.istate[layout.STEPS])
+
+    @property
+    def missing(self) -> int:
+        """Steps whose reading was missing (nothing was learnt from them)."""
+        return int(self.istate[layout.MISSING])
 
     @property
     def posture(self) -> NDArray[np.float64]:
@@ -212,21 +261,31 @@ class BabbleState:
         m, n = self.home.shape[0], self.targets.shape[1]
         body = self.chain.kernel() if self.chain is not None else None
         v = self.vectors
-        q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end = (v[k] for k in self.VECTORS)
+        q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end, q_exec = (
+            v[k] for k in self.VECTORS
+        )
         motion = layout.Motion(
             q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end,
-            np.empty(m), np.empty(n), np.empty(n),
+            np.empty(m), np.empty(n), np.empty(n), q_exec,
         )  # fmt: skip
         r = self.rec
         recorder = layout.Recorder(*self.record, *(r[k] for k in RecordedSteps.FIELDS))
         until = -np.inf if self.until_error is None else float(self.until_error)
         evaluation = layout.Evaluation(
-            self.schedule, self.eval_targets, self.errors, self.distances, self.components, until
+            self.schedule,
+            self.eval_targets,
+            self.errors,
+            self.distances,
+            self.components,
+            until,
+            self.reaches,
         )
+        limits = layout.Limits(self.home, self.lower, self.upper, float(self.max_step))
+        sensor = NO_SENSOR if self.sensor is None else self.sensor
         return (
             layout.Learner(hyper, self.llm.kernel(), self.llm.scratch(), layout.Noise(self.A, self.b)),
-            layout.Robot(layout.Limits(self.home, self.lower, self.upper), body),  # type: ignore[arg-type]
-            layout.Run(motion, self.istate),
+            layout.Robot(limits, body, sensor),  # type: ignore[arg-type]
+            layout.Run(motion, self.istate, self.reach),
             self.goal_state,
             layout.Monitor(evaluation, recorder),
         )
@@ -279,6 +338,7 @@ class BabbleState:
         self.errors = self.errors[:c].copy()
         self.distances = self.distances[:c].copy()
         self.components = self.components[:c].copy()
+        self.reaches = self.reaches[:c].copy()
 
     def _grow_recording(self) -> None:
         grow = max(16, 2 * self.rec["step"].shape[0])
@@ -318,6 +378,10 @@ class BabbleState:
         """The random generator's bit-generator state (JSON-serialisable)."""
         return dict(self.rng.bit_generator.state)
 
+    def sensor_rng_state(self) -> dict[str, Any] | None:
+        """The sensor generator's bit-generator state (JSON-serialisable); None without a sensor."""
+        return None if self.sensor is None else dict(self.sensor.rng.bit_generator.state)
+
     @classmethod
     def from_arrays(
         cls,
@@ -325,21 +389,28 @@ class BabbleState:
         config: BabbleConfig,
         rng_state: dict[str, Any],
         goals: str | GoalGenerator | None = None,
+        sensor_rng: dict[str, Any] | None = None,
     ) -> BabbleState:
         """Rebuild a state written by :meth:`to_arrays` exactly (same numbers, same random stream).
+
+        ``sensor_rng``: the sensor generator's state (:meth:`sensor_rng_state`), for a run with a sensor.
 
         Raises:
             InvalidArgumentError: arrays missing, of inconsistent shapes or out of range.
         """
         from gb_pin.learn.snapshot import state_from_arrays
 
-        return state_from_arrays(cls(), arrays, config, rng_state, make_goals(goals))
+        return state_from_arrays(cls(), arrays, config, rng_state, make_goals(goals), sensor_rng)
 
     def history(self) -> History:
         """E^X and D^home at the schedule's movement counts (NaN where not reached yet)."""
         components = self.components if self.components.shape[1] else None
         return History(
-            movements=self.schedule, error=self.errors, home_distance=self.distances, components=components
+            movements=self.schedule,
+            error=self.errors,
+            home_distance=self.distances,
+            components=components,
+            reach=self.reaches,
         )
 
     def recorded(self) -> RecordedSteps | None:

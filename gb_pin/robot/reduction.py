@@ -112,18 +112,48 @@ def lock_joints(
     for jid in range(1, source.njoints):
         if jid not in framed:
             source.addJointFrame(jid)
+    # buildReducedModel looks a locked joint's frame up by name alone: a link named like a joint
+    # (SO-100's "gripper") makes that ambiguous. Such frames are renamed for the call, then back.
+    renamed = _rename_clashing_frames(source)
     try:
-        return pin.buildReducedModel(source, [model.getJointId(n) for n in locked_names], reference)
+        reduced = pin.buildReducedModel(source, [model.getJointId(n) for n in locked_names], reference)
     except (ValueError, RuntimeError) as exc:
         raise InvalidArgumentError(
             f"cannot lock joints {locked_names} of {name!r}: "
             f"pinocchio.buildReducedModel failed ({exc}); give every joint its frame "
             "(Model.addJointFrame) before adding other frames"
         ) from exc
+    for i, frame in enumerate(reduced.frames):
+        if frame.name in renamed:
+            frame.name = renamed[frame.name]
+            reduced.frames[i] = frame
+    return reduced
+
+
+def _rename_clashing_frames(model: pin.Model) -> dict[str, str]:
+    """Give every non-joint frame named like a joint a unique name (in place); {new name: old name}."""
+    import pinocchio as pin
+
+    joint_frame = pin.FrameType.JOINT
+    names = set(joint_names(model))
+    taken = {f.name for f in model.frames}
+    renamed: dict[str, str] = {}
+    for i, frame in enumerate(model.frames):
+        if frame.name in names and frame.type != joint_frame:
+            new = f"{frame.name}#gb_pin{i}"
+            while new in taken:
+                new += "_"
+            renamed[new] = frame.name
+            frame.name = new
+            model.frames[i] = frame
+    return renamed
 
 
 def find_frame(model: pin.Model, frame: str, name: str) -> int:
     """The id of the operational frame ``frame`` in ``model``.
+
+    Where several frames have that name (a URDF may name a link and a joint alike), the link's
+    frame is taken: a BODY frame first, then an operational frame, then a joint's.
 
     Raises:
         UnknownRobotError: no such frame (the closest names listed).
@@ -133,4 +163,9 @@ def find_frame(model: pin.Model, frame: str, name: str) -> int:
         raise UnknownRobotError(
             f"unknown frame {frame!r} in model {name!r}; {suggest(str(frame), frame_names)}"
         )
-    return int(model.getFrameId(frame))
+    import pinocchio as pin
+
+    order = [pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT]
+    matches = [i for i, f in enumerate(model.frames) if f.name == frame]
+    matches.sort(key=lambda i: order.index(model.frames[i].type) if model.frames[i].type in order else 9)
+    return int(matches[0])

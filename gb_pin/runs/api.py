@@ -8,7 +8,6 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import fields
 from typing import Any
 
 import numpy as np
@@ -16,17 +15,20 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin._files import check_writable
-from gb_pin.exceptions import InvalidArgumentError, ResultFileError
+from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import Recording
 from gb_pin.learn.learner import GoalBabbling
+from gb_pin.learn.sensor import Sensor
 from gb_pin.learn.state import BabbleState
 from gb_pin.robot.bodies import ChangedBody
+from gb_pin.robot.external import ExternalRobot
 from gb_pin.robot.function import FunctionTarget
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs import setup
-from gb_pin.runs.result import BabbleResult, goal_fields
+from gb_pin.runs.result import BabbleResult, state_fields
+from gb_pin.runs.spec import RunSpec
 
 
 def warmup() -> float:
@@ -37,7 +39,7 @@ def warmup() -> float:
 
 
 def babble(
-    robot: str | setup.Target = "planar20",
+    robot: str | setup.Target | RunSpec = "planar20",
     movements: int = 1000,
     seed: int | np.random.Generator = 0,
     learning_rate: float | None = None,
@@ -60,6 +62,9 @@ def babble(
     changes: dict[int, Any] | None = None,
     init: BabbleResult | None = None,
     until_error: float | None = None,
+    max_joint_step: float | None = None,
+    sensor: Sensor | None = None,
+    reach_window: int = 50,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -68,8 +73,10 @@ def babble(
     radius 0.1 m, path_length 25, p_home 0.1.
 
     Args:
-        robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``), a
-            :class:`~gb_pin.robot.target.KinematicTarget` or a
+        robot: a preset name (``"planar5"``, ``"planar20"``, any ``planarN``, ``"so101"``), a
+            :class:`~gb_pin.runs.spec.RunSpec` (the whole run: the other run arguments are then
+            not given), a :class:`~gb_pin.robot.target.KinematicTarget`, a plant
+            (:mod:`gb_pin.plants`: a mis-calibrated body observed through a sensor), or a
             :class:`~gb_pin.robot.function.FunctionTarget` (a forward model, run step
             by step; no viewer or checkpoints), a changed body (:mod:`gb_pin.robot.bodies`),
             or ``"MODULE:NAME"`` naming one of those in a module or ``.py`` file.
@@ -113,6 +120,13 @@ def babble(
             over to this robot (same joints and task axes); movements count from 0 again.
         until_error: stop as soon as E^X on the test set is at most this level [m] (measured
             at the ``schedule``'s counts); ``movements`` is then the most the run may take.
+        max_joint_step: no step moves a joint farther than this from the last executed posture
+            ([rad] or [m]); the arm learns from what it executed. None: no limit.
+        sensor: a :class:`~gb_pin.learn.sensor.Sensor` (noise per axis, missing readings) through
+            which the learner observes the hand; None: the robot's own (a plant's), else exact.
+            E^X is always measured on the true body.
+        reach_window: goal-directed movements over which ``result.history.reach`` (the median
+            reach error the robot observed: progress measured without extra movements) is taken.
 
     Returns:
         A :class:`BabbleResult`.
@@ -122,35 +136,40 @@ def babble(
         InvalidArgumentError: any other bad argument.
         DivergenceError: the estimate diverged (the last checkpoint stays on disk).
     """
-    given = {"learning_rate": learning_rate, "sigma": sigma, "sigma_delta": sigma_delta,
-             "radius": radius, "path_length": path_length, "p_home": p_home}  # fmt: skip
-    target, name, movements, X, learner, rng, int_seed = setup.prepare(
-        robot, movements, seed, given, targets, init
-    )
+    if isinstance(robot, RunSpec):
+        spec = robot
+    else:
+        spec = RunSpec(
+            robot, movements, seed, learning_rate, sigma, sigma_delta, radius, path_length, p_home,
+            targets, eval_targets, schedule, record, goals, changes, init, until_error, max_joint_step,
+            sensor, reach_window,
+        )  # fmt: skip
+    run = setup.prepare(spec)
+    if isinstance(run.target, ExternalRobot):
+        raise InvalidArgumentError(
+            f"{run.target!r} has no forward model: babble() cannot move it; drive it with "
+            "gb_pin.babble_session (ask a posture, execute it, tell the reading)"
+        )
     if checkpoint_every is not None:
-        check.positive_int("checkpoint_every", checkpoint_every)
-    setup.check_hooks(callback=callback, viewer=viewer, record=record)
+        check.positive_int("checkpoint_every", checkpoint_every, 1, check.MAX_MOVEMENTS)
+    setup.check_hooks(callback=callback, viewer=viewer)
     if checkpoint is not None:
         check_writable(checkpoint, "checkpoint")
+    if isinstance(run.target, FunctionTarget):
+        from gb_pin.runs.stepped import babble_function
+
+        return babble_function(run, callback, viewer, checkpoint, checkpoint_every)
     from gb_pin.runs.checkpoint import checkpoint_lock
 
-    if isinstance(target, FunctionTarget):
-        from gb_pin.runs.session import babble_function
-
-        with checkpoint_lock(checkpoint):
-            return babble_function(target, learner, X, movements, rng, int_seed, callback, viewer, checkpoint,
-                                   dict(eval_targets=eval_targets, schedule=schedule, record=record,
-                                        goals=goals, changes=changes, init=init,
-                                        until_error=until_error))  # fmt: skip
-    learner.state_ = setup.start_state(
-        target, learner, X, movements, rng, eval_targets=eval_targets, schedule=schedule, record=record,
-        goals=goals, changes=changes, init=init, until_error=until_error,
-    )  # fmt: skip
-    runner = _Runner(target, name, int_seed, movements, checkpoint, wall_before=0.0)
-    observer = _attach(viewer, target, learner.state_.eval_targets)  # the test set; the goal set on the way
+    learner = run.learner
+    learner.state_ = setup.start_state(run)
+    runner = _Runner(run.target, run.name, run.seed, run.movements, checkpoint, wall_before=0.0)
+    observer = _attach(
+        viewer, run.target, learner.state_.eval_targets
+    )  # the test set; the goal set on the way
     with checkpoint_lock(checkpoint), _deferred_sigint(enabled=checkpoint is not None) as interrupted:
         learner.resume(
-            movements,
+            run.movements,
             callback=callback,
             observer=observer,
             observe_every=observe_every,
@@ -184,7 +203,7 @@ def resume(
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one written for another robot.
     """
-    from gb_pin.runs.checkpoint import checkpoint_lock, read_checkpoint
+    from gb_pin.runs.checkpoint import checkpoint_lock, read_checkpoint, same_robot
 
     check_writable(checkpoint, "checkpoint")
     setup.check_hooks(callback=callback, viewer=viewer)
@@ -201,19 +220,18 @@ def resume(
             )
         robot = load_robot(info.robot)
     elif not isinstance(robot, KinematicTarget | ChangedBody):
-        raise InvalidArgumentError(f"robot must be a KinematicTarget, a ChangedBody or None, got {robot!r}")
-    # After a scheduled body change the state's chain is the changed body's, not the robot's.
-    changed = any(at <= state.movements for at, _ in state.changes)
-    for f in () if changed or state.chain is None else fields(robot.chain):
-        if not np.array_equal(
-            np.asarray(getattr(robot.chain, f.name)), np.asarray(getattr(state.chain, f.name))
-        ):
-            raise ResultFileError(
-                f"{os.fspath(checkpoint)}: written for a robot whose kinematics differ from "
-                f"{robot.name!r} ({f.name} differs)"
-            )
+        raise InvalidArgumentError(
+            f"robot must be a KinematicTarget, a ChangedBody or None, got {robot!r}; a robot given as a "
+            "function or on hardware continues with gb_pin.runs.session.resume_session"
+        )
+    if state.chain is None:
+        raise InvalidArgumentError(
+            f"{os.fspath(checkpoint)}: a session of a robot without compiled kinematics; continue it with "
+            "gb_pin.runs.session.resume_session(path, robot=...)"
+        )
+    same_robot(checkpoint, robot, state)
     if checkpoint_every is not None:
-        check.positive_int("checkpoint_every", checkpoint_every)
+        check.positive_int("checkpoint_every", checkpoint_every, 1, check.MAX_MOVEMENTS)
     learner = GoalBabbling.from_config(info.config)
     learner.state_ = state
     runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)
@@ -331,5 +349,5 @@ class _Runner:
             wall_time=self.wall(),
             recording=learner.recording_,
             state=state,
-            **goal_fields(state),
+            **state_fields(state),
         )

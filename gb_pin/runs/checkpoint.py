@@ -11,11 +11,14 @@ member (:func:`gb_pin.runs.archive.read_archive`): plain arrays only, never pick
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import fcntl
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, ResultFileError
 from gb_pin.learn.config import BabbleConfig
@@ -40,6 +43,8 @@ class CheckpointInfo:
         config: hyperparameters.
         wall_time: seconds of babbling before the checkpoint.
         source: how to rebuild a robot that is no preset (:mod:`gb_pin.runs.robot_source`), or None.
+        evaluate: where a session's E^X comes from (``"model"``, ``"movements"``, ``"none"``).
+        unobserved: test targets of a session's evaluation movements whose reading never arrived.
     """
 
     robot: str | None
@@ -49,6 +54,8 @@ class CheckpointInfo:
     config: BabbleConfig
     wall_time: float
     source: dict[str, Any] | None = None
+    evaluate: str = "model"
+    unobserved: int = 0
 
 
 def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: CheckpointInfo) -> None:
@@ -63,6 +70,8 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
         "config": info.config.as_dict(),
         "wall_time": info.wall_time,
         **state_header(state),
+        "evaluate": info.evaluate,
+        "unobserved": info.unobserved,
     }
     if info.source is not None:
         meta["robot_source"] = info.source
@@ -70,8 +79,14 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
 
 
 def state_header(state: BabbleState) -> dict[str, Any]:
-    """The header entries of a state beside its arrays: the random generator's state and the goals."""
-    return {"rng": state.rng_state(), "goals": {"name": state.goals.name, "params": state.goals.get_params()}}
+    """The header entries of a state beside its arrays: the random generators' states and the goals."""
+    header: dict[str, Any] = {
+        "rng": state.rng_state(),
+        "goals": {"name": state.goals.name, "params": state.goals.get_params()},
+    }
+    if state.sensor is not None:
+        header["sensor_rng"] = state.sensor_rng_state()
+    return header
 
 
 def read_state(
@@ -87,7 +102,9 @@ def read_state(
     if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
         raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
     generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
-    return BabbleState.from_arrays(arrays, config, header["rng"], goals=generator)
+    return BabbleState.from_arrays(
+        arrays, config, header["rng"], goals=generator, sensor_rng=header.get("sensor_rng")
+    )
 
 
 def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, CheckpointInfo]:
@@ -109,6 +126,8 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             config=config,
             wall_time=fields.seconds(path, meta, "wall_time"),
             source=robot_source.check(path, meta.get("robot_source")),
+            evaluate=_evaluate_mode(path, meta.get("evaluate", "model")),
+            unobserved=fields.count(path, meta, "unobserved") if "unobserved" in meta else 0,
         )
         state = read_state(path, arrays, meta, config)
     except GbPinError as exc:
@@ -135,6 +154,46 @@ def checkpoint_robot(path: str | os.PathLike[str], info: CheckpointInfo) -> Any:
             "cannot rebuild; pass it as robot= to resume"
         )
     return robot_source.rebuild(os.fspath(path), info.source)
+
+
+def _evaluate_mode(path: str, value: Any) -> str:
+    if value not in ("model", "movements", "none"):
+        raise ResultFileError(
+            f"{path}: evaluate must be 'model', 'movements' or 'none', got {str(value)[:40]!r}"
+        )
+    return str(value)
+
+
+def same_robot(path: str | os.PathLike[str], robot: Any, state: BabbleState) -> None:
+    """Refuse a robot other than the checkpoint's: other dimensions, home, limits or kinematics.
+
+    Raises:
+        ResultFileError: naming what differs.
+    """
+    m, n = state.home.shape[0], state.targets.shape[1]
+    where = os.fspath(path)
+    if (getattr(robot, "n_joints", None), getattr(robot, "n_task", None)) != (m, n):
+        raise ResultFileError(
+            f"{where}: written for a robot of {m} joints and {n} task axes, got {robot!r:.120}"
+        )
+    # After a scheduled body change the state's chain is the changed body's, not the robot's.
+    changed = any(at <= state.movements for at, _ in state.changes)
+    chain = getattr(robot, "chain", None)
+    if not changed and (chain is None) != (state.chain is None):
+        kind = "with" if state.chain is not None else "without"
+        raise ResultFileError(f"{where}: written for a robot {kind} compiled kinematics, got {robot!r:.120}")
+    if not changed and chain is not None:
+        for f in dataclasses.fields(chain):
+            if not np.array_equal(
+                np.asarray(getattr(chain, f.name)), np.asarray(getattr(state.chain, f.name))
+            ):
+                raise ResultFileError(
+                    f"{where}: written for a robot whose kinematics differ from {robot.name!r} "
+                    f"({f.name} differs)"
+                )
+    for name in ("home", "lower", "upper"):
+        if not np.array_equal(np.asarray(getattr(robot, name), dtype=float), getattr(state, name)):
+            raise ResultFileError(f"{where}: written for a robot of another {name} than {robot.name!r}")
 
 
 @contextlib.contextmanager

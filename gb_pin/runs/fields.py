@@ -122,6 +122,28 @@ def components(path: str, arrays: dict[str, Any], count: int) -> NDArray[np.floa
     return values
 
 
+def reach(path: str, arrays: dict[str, Any], count: int) -> NDArray[np.float64] | None:
+    """The history's reach medians (T,) [m] (NaN before the first), or None (files written before them).
+
+    Raises:
+        ResultFileError: not (T,) real numbers, or negative or infinite values.
+    """
+    if "history_reach" not in arrays:
+        return None
+    arr = arrays["history_reach"]
+    if arr.dtype.kind not in "iuf" or arr.shape != (count,):
+        raise _fail(
+            path,
+            "history_reach",
+            f"{arr.dtype} array of shape {arr.shape}",
+            f"real numbers of shape ({count},)",
+        )
+    values = arr.astype(np.float64)
+    if np.any(np.isinf(values)) or np.any(values < 0):
+        raise ResultFileError(f"{path}: history_reach holds negative or infinite values")
+    return values
+
+
 def targets(path: str, arrays: dict[str, Any], n_task: int, key: str = "targets") -> NDArray[np.float64]:
     """``arrays[key]``: finite, of shape (N, n_task) with N >= 1."""
     arr = real_array(path, arrays, key, 2)

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin.ik.api import DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_TOL, Seed, solve, solve_path
 from gb_pin.ik.solution import IKPath, IKSolution
 from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.feedback import DEFAULT_OBSERVATIONS, ReachResult, reach
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.state import BabbleState
@@ -43,6 +44,7 @@ class BabbleResult:
             the paper's uniform choice.
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
             (the test set, ``eval_targets=``); None when they are the same set.
+        missing: learning steps whose reading was missing (a sensor's losses, or ``tell(None)``).
     """
 
     target: KinematicTarget
@@ -59,6 +61,7 @@ class BabbleResult:
     state: BabbleState | None = field(default=None, repr=False)
     goals: str | None = None
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
+    missing: int = 0
 
     def __repr__(self) -> str:
         """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
@@ -198,6 +201,31 @@ class BabbleResult:
         """
         return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol)
 
+    def reach(
+        self,
+        X: ArrayLike,
+        observe: Any,
+        observations: Any = DEFAULT_OBSERVATIONS,
+        **options: Any,
+    ) -> ReachResult:
+        """Reach targets by feedback on the learned model, the robot driven by ``observe(q) -> x or None``.
+
+        g(x*) first, then corrections q += dg/dx (x* - mean of k readings) (:mod:`gb_pin.learn.feedback`):
+        no kinematic model, sub-millimetre on a mis-modelled arm (docs/HARDWARE.md).
+
+        Args:
+            X: (N, n) targets or one (n,) target [m].
+            observe: executes a posture (m,) and returns the reading (n,) [m], or None when it is lost.
+            observations: readings averaged before each correction, e.g. (1, 1, 3).
+            **options: ``gain``, ``max_joint_step`` with ``start``, ``retries``
+                (:class:`~gb_pin.learn.feedback.FeedbackReach`).
+
+        Returns:
+            A :class:`~gb_pin.learn.feedback.ReachResult` (postures, initial, readings, reached).
+        """
+        lower, upper = self.target.lower, self.target.upper
+        return reach(self.model, X, observe, lower, upper, observations=observations, **options)
+
 
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     """Write ``result`` to ``path`` (an ``.npz`` archive of plain arrays and a JSON header).
@@ -221,6 +249,11 @@ def load_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             robot that cannot be rebuilt (the message says what was recorded and how to pass it).
     """
     return BabbleResult.load(path, target)
+
+
+def state_fields(state: BabbleState) -> dict[str, Any]:
+    """The fields of a result that its run's final state gives: goals, goal set, missing readings."""
+    return {**goal_fields(state), "missing": state.missing}
 
 
 def goal_fields(state: BabbleState) -> dict[str, Any]:

@@ -50,6 +50,7 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         "movements": result.movements,
         "steps": result.steps,
         "wall_time": result.wall_time,
+        "missing": result.missing,
     }
     source = robot_source.describe(result.target, result.robot)
     if source is not None:  # how to rebuild a robot that is no preset (files of 0.1 have none)
@@ -58,6 +59,8 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
     recording = {} if result.recording is None else result.recording.to_arrays()
     components = result.history.components
     extra = {} if components is None else {"history_components": components}  # stacked tasks only
+    if result.history.reach is not None:
+        extra["history_reach"] = result.history.reach
     if result.goal_targets is not None:  # a goal set other than the test set
         extra["goal_targets"] = result.goal_targets
     if result.goals is not None:  # a goal generator other than the paper's
@@ -122,7 +125,10 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         recording = RecordedSteps.from_arrays(arrays, target.n_joints, target.n_task)
         moves, error, home_distance = fields.history(path, arrays)
         components = fields.components(path, arrays, moves.shape[0])
-        history = History(movements=moves, error=error, home_distance=home_distance, components=components)
+        history = History(
+            movements=moves, error=error, home_distance=home_distance, components=components,
+            reach=fields.reach(path, arrays, moves.shape[0]),
+        )  # fmt: skip
         return dict(
             target=target,
             targets=fields.targets(path, arrays, target.n_task),
@@ -140,6 +146,7 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             if "goal_targets" in arrays
             else None,
             state=_state(path, arrays, meta, config, target),
+            missing=fields.count(path, meta, "missing") if "missing" in meta else 0,
         )
     except GbPinError as exc:
         if isinstance(exc, ResultFileError):

@@ -7,7 +7,9 @@ in the header's ``robot_source``, a small JSON object saying how to build it aga
   :meth:`~gb_pin.robot.target.KinematicTarget.from_urdf`;
 - ``{"kind": "erd", "robot": NAME, "frame", "joints", "home", "axes", "name", "chain_sha256"}``:
   :meth:`~gb_pin.robot.target.KinematicTarget.from_example_robot_data`;
-- ``{"kind": "module", "spec": "MODULE:NAME"}``: a robot of :mod:`gb_pin.robot.spec`.
+- ``{"kind": "module", "spec": "MODULE:NAME"}``: a robot of :mod:`gb_pin.robot.spec`;
+- ``{"kind": "plant", "base": PRESET or a urdf/erd source, "offsets", "scales", "noise", "loss", "seed",
+  "name", "chain_sha256"}``: a :class:`~gb_pin.robot.plant.Plant` (a mis-calibrated body and its sensor).
 
 ``home`` is the resolved home posture (numbers over ``joints``), ``chain_sha256`` the digest of the
 kinematic chain the run learned on: a rebuilt robot whose kinematics differ (the URDF was edited) is
@@ -40,6 +42,7 @@ _KEYS = {
     "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
     "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
     "module": {"kind", "spec"},
+    "plant": {"kind", "base", "offsets", "scales", "noise", "loss", "seed", "name", "chain_sha256"},
 }
 MAX_GRID_COUNT = 1000  # points per axis of a recorded goal grid
 
@@ -75,11 +78,14 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
     URDF and example-robot-data targets are described by their file (or erd name), frame, joints,
     home, axes and name; robots loaded by ``MODULE:NAME`` by their spec (a ``.py`` path made absolute).
     """
+    from gb_pin.robot.plant import Plant
     from gb_pin.robot.spec import spec_of
     from gb_pin.robot.target import KinematicTarget
 
     if robot is not None:
         return None
+    if isinstance(target, Plant):
+        return _describe_plant(target)
     spec = spec_of(target)
     if spec is not None:
         module, _, attr = spec.rpartition(":")
@@ -107,6 +113,77 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return check("robot_source", source)
     except ResultFileError:
         return None
+
+
+def _describe_plant(plant: Any) -> dict[str, Any] | None:
+    """A plant's source: its model (a preset's name or a model's source) and how it differs, or None."""
+    model = plant.target
+    base: Any = plant.preset if plant.preset is not None else describe(model, None)
+    if base is None or (isinstance(base, dict) and base["kind"] not in ("urdf", "erd")):
+        return None
+    source = {
+        "kind": "plant",
+        "base": base,
+        "offsets": [float(v) for v in plant.calibration.offsets],
+        "scales": [float(v) for v in plant.calibration.scales],
+        "noise": [float(v) for v in np.atleast_1d(plant.sensor.noise)],
+        "loss": float(plant.sensor.loss),
+        "seed": int(plant.seed),
+        "name": plant.name,
+        "chain_sha256": chain_digest(plant.chain),
+    }
+    try:
+        return check("robot_source", source)
+    except ResultFileError:
+        return None
+
+
+def _numbers(path: str, value: Any, key: str, count: int | None, minimum: float) -> None:
+    ok = isinstance(value, list) and (count is None or len(value) == count) and 0 < len(value) <= MAX_JOINTS
+    real = (isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value or ())
+    if not ok or not all(real) or min(value) < minimum:
+        raise _fail(path, key, value, f"a list of finite numbers >= {minimum:g}")
+
+
+def _check_plant(path: str, value: dict[str, Any]) -> dict[str, Any]:
+    base = value.get("base")
+    if isinstance(base, dict):
+        if base.get("kind") not in ("urdf", "erd"):
+            raise _fail(path, "base", base, "a preset name or a urdf / erd source")
+        check(path, base)
+    elif not (_printable(base, MAX_NAME) and re.fullmatch(r"[A-Za-z0-9_]+", str(base))):
+        raise _fail(path, "base", base, "a preset name or a urdf / erd source")
+    _numbers(path, value.get("offsets"), "offsets", None, -math.pi)
+    _numbers(path, value.get("scales"), "scales", len(value["offsets"]) + 1, 1e-6)
+    _numbers(path, value.get("noise"), "noise", None, 0.0)
+    loss = value.get("loss")
+    if isinstance(loss, bool) or not isinstance(loss, int | float) or not 0 <= loss < 1:
+        raise _fail(path, "loss", loss, "a probability in [0, 1)")
+    seed = value.get("seed")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise _fail(path, "seed", seed, "an integer in [0, 2^63)")
+    _text(path, value, "name", MAX_NAME)
+    digest = value.get("chain_sha256")
+    if not isinstance(digest, str) or not re.fullmatch("[0-9a-f]{64}", digest):
+        raise _fail(path, "chain_sha256", digest, "64 hexadecimal digits")
+    return dict(value)
+
+
+def _rebuild_plant(path: str, source: dict[str, Any]) -> Any:
+    from gb_pin.robot.plant import Plant
+    from gb_pin.robot.presets import load_robot
+
+    base = source["base"]
+    try:
+        model = load_robot(base) if isinstance(base, str) else rebuild(path, base)
+        noise = source["noise"][0] if len(source["noise"]) == 1 else source["noise"]
+        plant = Plant(model, offsets=source["offsets"], scales=source["scales"], noise=noise,
+                      loss=source["loss"], seed=source["seed"], name=source["name"])  # fmt: skip
+    except (GbPinError, OSError, ValueError) as exc:
+        raise ResultFileError(f"{path}: cannot rebuild the run's plant {source['name']!r} ({exc})") from exc
+    if chain_digest(plant.chain) != source["chain_sha256"]:
+        raise ResultFileError(f"{path}: the rebuilt plant's kinematics differ from the run's (model edited?)")
+    return plant
 
 
 def _erd_name(urdf: str) -> str | None:
@@ -154,6 +231,8 @@ def check(path: str, value: Any) -> dict[str, Any] | None:
     extra = sorted(set(value) - _KEYS[kind])
     if extra:
         raise _fail(path, "keys", extra, f"among {sorted(_KEYS[kind])}")
+    if kind == "plant":
+        return _check_plant(path, value)
     if kind == "module":
         if ":" not in _text(path, value, "spec", MAX_TEXT):
             raise _fail(path, "spec", value["spec"], "MODULE:NAME")
@@ -235,6 +314,8 @@ def _check_onboarding(path: str, value: Any, n_axes: int) -> None:
 
 def explain(source: dict[str, Any]) -> str:
     """What ``source`` records, and the CLI options that pass that robot explicitly."""
+    if source["kind"] == "plant":
+        return f"the plant {source['name']!r} (a mis-calibrated body of {source['base']!r}); pass it: robot="
     if source["kind"] == "module":
         return f"the robot {source['spec']!r} (MODULE:NAME); pass it: --robot {source['spec']}"
     where = source["path"] if source["kind"] == "urdf" else f"erd:{source['robot']}"
@@ -257,6 +338,8 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
     """
     from gb_pin.robot.target import KinematicTarget
 
+    if source["kind"] == "plant":
+        return _rebuild_plant(path, source)
     hint = f"{explain(source)} (or target= in Python)"
     if source["kind"] == "module":
         raise ResultFileError(

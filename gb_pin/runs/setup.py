@@ -9,7 +9,7 @@ over, the movement count and the history start afresh.
 from __future__ import annotations
 
 import copy
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,18 +18,19 @@ from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.config import BY_NAME, NAMES
-from gb_pin.learn.goals import GoalGenerator
 from gb_pin.learn.history import Recording
 from gb_pin.learn.learner import GoalBabbling
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.state import BabbleState
 from gb_pin.robot.bodies import ChangedBody
+from gb_pin.robot.external import ExternalRobot
 from gb_pin.robot.function import FunctionTarget
 from gb_pin.robot.presets import get_preset, load_robot
 from gb_pin.robot.spec import is_robot_spec, load_robot_spec
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.spec import RunSpec
 
-Target = KinematicTarget | FunctionTarget | ChangedBody
+Target = KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot
 
 
 def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
@@ -39,10 +40,13 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: not a robot.
     """
-    if isinstance(robot, KinematicTarget):  # an onboarded robot brings the radius it measured
-        return robot, None, robot.learner_defaults
-    if isinstance(robot, FunctionTarget | ChangedBody):
-        return robot, None, {}
+    if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot):
+        preset = getattr(robot, "preset", None)  # a plant of a preset learns with the preset's defaults
+        if isinstance(preset, str):
+            return robot, None, dict(get_preset(preset)[0].learner)
+        # An onboarded robot (or a plant of one) brings the radius and sigma it measured.
+        model = robot if isinstance(robot, KinematicTarget) else getattr(robot, "target", None)
+        return robot, None, dict(model.learner_defaults) if isinstance(model, KinematicTarget) else {}
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):
@@ -106,30 +110,40 @@ def target_set(target: Target, targets: ArrayLike | None) -> NDArray[np.float64]
     return target.check_targets(targets)
 
 
+class Prepared(NamedTuple):
+    """A run's description resolved: the robot, its goal set, the learner and the random generator."""
+
+    spec: RunSpec
+    target: Target
+    name: str | None
+    movements: int
+    X: NDArray[np.float64]
+    learner: GoalBabbling
+    rng: np.random.Generator
+    seed: int | None
+
+
 def start_state(
-    target: Target,
-    learner: GoalBabbling,
-    X: NDArray[np.float64],
-    movements: int,
-    rng: np.random.Generator,
-    *,
-    eval_targets: ArrayLike | None,
-    schedule: ArrayLike | None,
-    record: Recording | None,
-    goals: str | GoalGenerator | None,
-    changes: dict[int, Any] | None,
-    init: Any | None,
-    until_error: float | None = None,
+    run: Prepared, *, schedule: ArrayLike | None = None, home_position: ArrayLike | None = None
 ) -> BabbleState:
-    """The state at movement 0: fresh, or continuing ``init`` (a result with a final state)."""
-    config = learner._resolve(target.n_joints)
-    kinematics: Any = target  # a Kinematics, or a forward model without a compiled chain
+    """The state at movement 0: fresh, or continuing ``init`` (a result with a final state).
+
+    Args:
+        run: the prepared run.
+        schedule: the evaluation schedule, if not the spec's (sessions evaluating by movements).
+        home_position: f(q_home) as observed (a robot without a model).
+    """
+    spec = run.spec
+    config = run.learner._resolve(run.target.n_joints)
+    kinematics: Any = run.target  # a Kinematics, or a forward model without a compiled chain
     st = BabbleState.start(
-        kinematics, X, movements, config, seed=rng, eval_targets=eval_targets, schedule=schedule,
-        record=record, goals=goals, changes=changes, until_error=until_error,
+        kinematics, run.X, run.movements, config, seed=run.rng, eval_targets=spec.eval_targets,
+        schedule=spec.schedule if schedule is None else schedule, record=spec.record, goals=spec.goals,
+        changes=spec.changes, until_error=spec.until_error, max_joint_step=spec.max_joint_step,
+        sensor=spec.sensor, reach_window=spec.reach_window, home_position=home_position,
     )  # fmt: skip
-    if init is not None:
-        continue_from(st, init)
+    if spec.init is not None:
+        continue_from(st, spec.init)
     return st
 
 
@@ -189,21 +203,15 @@ def generator(seed: Any, init: Any | None = None) -> tuple[np.random.Generator, 
     return rng, None if isinstance(seed, np.random.Generator) else int(seed)
 
 
-def prepare(
-    robot: Any, movements: Any, seed: Any, given: dict[str, Any], targets: ArrayLike | None, init: Any | None
-) -> tuple[Target, str | None, int, NDArray[np.float64], GoalBabbling, np.random.Generator, int | None]:
+def prepare(spec: RunSpec) -> Prepared:
     """What ``babble()`` and ``babble_session()`` check and build first, in this order.
-
-    Returns:
-        (target, preset name or None, movements, goal set X*, learner, generator, int seed or None).
 
     Raises:
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: a bad robot, movement count, target set, hyperparameter or seed.
     """
-    target, name, defaults = resolve_robot(robot)
-    movements = check.movements("movements", movements, minimum=1)
-    X = target_set(target, targets)  # checked; warns about targets beyond reach
-    learner = make_learner(defaults, given)
-    rng, int_seed = generator(seed, init)
-    return target, name, movements, X, learner, rng, int_seed
+    target, name, defaults = resolve_robot(spec.robot)
+    X = target_set(target, spec.targets)  # checked; warns about targets beyond reach
+    learner = make_learner(defaults, spec.hyperparameters())
+    rng, int_seed = generator(spec.seed, spec.init)
+    return Prepared(spec, target, name, int(spec.movements), X, learner, rng, int_seed)

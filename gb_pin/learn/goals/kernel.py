@@ -227,7 +227,7 @@ def _motor_posture(goals, rng, limits, out):  # type: ignore[no-untyped-def]
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _random_posture(goals, rng, limits, out):  # type: ignore[no-untyped-def]
-    home, lower, upper = limits
+    home, lower, upper = limits.home, limits.lower, limits.upper
     spread = goals.params[SPREAD]
     for i in range(out.shape[0]):
         out[i] = min(max(home[i] + spread * rng.standard_normal(), lower[i]), upper[i])

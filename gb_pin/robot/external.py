@@ -1,0 +1,105 @@
+"""ExternalRobot: a robot gb_pin cannot compute, only ask: a real arm driven through a session.
+
+On hardware nobody may have written the kinematics down, and nothing but the robot itself may
+say where its hand is. An :class:`ExternalRobot` describes such a robot by what goal babbling
+needs besides Eq. 1: a home posture, joint limits, a goal set and the task dimension. Only
+``babble_session`` drives it: every posture the robot executes is one that ``ask()`` returned,
+the first being home (its reading is f(q_home), where the learner starts). E^X then comes from
+evaluation movements (``babble_session(..., evaluate="movements")``) or not at all; the free
+measure of progress (``History.reach``) needs none. This module does not import pinocchio.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.robot.function import _limit
+
+
+class ExternalRobot:
+    """A robot known only by its home, limits, goal set and task dimension (no forward model).
+
+    Args:
+        home: home posture q_home (m,) [rad] or [m], within the limits.
+        n_task: the task dimension n (3 for a hand position).
+        targets: goal set X* (N, n) [m] (also the test set of evaluation movements by default).
+        lower: lower joint limits (m,); default -inf (unbounded).
+        upper: upper joint limits (m,); default +inf.
+        name: a label for messages and saved files.
+
+    Raises:
+        InvalidArgumentError: a bad home, limits, task dimension or targets.
+    """
+
+    chain = None  # nothing gb_pin can compute: only ask/tell sessions drive it
+
+    def __init__(
+        self,
+        home: ArrayLike,
+        n_task: int,
+        targets: ArrayLike,
+        *,
+        lower: ArrayLike | None = None,
+        upper: ArrayLike | None = None,
+        name: str = "external",
+    ) -> None:
+        try:
+            home_arr = np.asarray(home, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise InvalidArgumentError(f"home must be a posture vector, got {home!r}") from exc
+        if home_arr.ndim != 1 or home_arr.size == 0:
+            raise InvalidArgumentError(f"home must be a non-empty vector (m,), got shape {home_arr.shape}")
+        m = home_arr.shape[0]
+        self.home: NDArray[np.float64] = check.vector("home", home_arr, m)
+        self.lower: NDArray[np.float64] = _limit("lower", lower, m, -np.inf)
+        self.upper: NDArray[np.float64] = _limit("upper", upper, m, np.inf)
+        if (
+            np.any(self.lower > self.upper)
+            or np.any(self.home < self.lower)
+            or np.any(self.home > self.upper)
+        ):
+            raise InvalidArgumentError(
+                f"need lower <= home <= upper, got lower={self.lower}, home={self.home}, upper={self.upper}"
+            )
+        self._n = check.positive_int("n_task", n_task, 1, 10**4)
+        self.targets: NDArray[np.float64] = check.points("targets", targets, self._n)
+        self.name = str(name)
+
+    @property
+    def n_joints(self) -> int:
+        """Number of joints m."""
+        return int(self.home.shape[0])
+
+    @property
+    def n_task(self) -> int:
+        """Task dimension n."""
+        return self._n
+
+    def clip(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Posture(s) clipped to the joint limits: what the robot executes."""
+        return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
+
+    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
+        """Validate targets: (N, n) finite points [m]."""
+        return check.points(what, targets, self._n)
+
+    def auto_targets(self) -> NDArray[np.float64]:
+        """The goal set given at construction."""
+        return self.targets
+
+    def forward(self, q: ArrayLike) -> NDArray[np.float64]:
+        """There is no forward model: only the robot knows where its hand is.
+
+        Raises:
+            InvalidArgumentError: always; drive the robot with ``gb_pin.babble_session``.
+        """
+        raise InvalidArgumentError(
+            f"ExternalRobot {self.name!r} has no forward model: drive it with gb_pin.babble_session "
+            "(ask() a posture, execute it, tell() the reading)"
+        )
+
+    def __repr__(self) -> str:
+        return f"ExternalRobot({self.name!r}, {self.n_joints} joints, {self.n_task} task axes)"

@@ -1,0 +1,63 @@
+"""``babble()`` on a robot given as a forward model: the ask/tell stepping driven by the model itself."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any
+
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.runs import setup
+from gb_pin.runs.result import BabbleResult
+from gb_pin.runs.session import BabbleSession
+
+
+def babble_function(
+    run: setup.Prepared,
+    callback: Callable[[int], Any] | None,
+    viewer: Any | None,
+    checkpoint: str | os.PathLike[str] | None,
+    checkpoint_every: int | None,
+) -> BabbleResult:
+    """babble() on a :class:`~gb_pin.robot.function.FunctionTarget`, by the ask/tell stepping.
+
+    A Python ``forward()`` is called once per step; a compiled kernel runs inside compiled code,
+    whole movements at a time. Checkpoints are written as in a session (every ``checkpoint_every``
+    movements, and at the end).
+
+    Raises:
+        InvalidArgumentError: a viewer was asked for (it draws a compiled chain).
+    """
+    if viewer is not None:
+        raise InvalidArgumentError("viewer= needs a robot with a compiled chain (a KinematicTarget)")
+    target: Any = run.target
+    session = BabbleSession(
+        target, setup.start_state(run), run.movements, robot=None, seed=run.seed, checkpoint=checkpoint,
+        checkpoint_every=checkpoint_every,
+    )  # fmt: skip
+    every = max(1, run.movements // 100)
+    with session:
+        if target.kernel is not None:  # a compiled forward model: whole movements in compiled code
+            stepper = session._stepper
+            assert stepper is not None
+            while not session.done:
+                until = min(run.movements, session.movements + every)
+                if checkpoint is not None:
+                    until = min(until, (session.movements // session.every + 1) * session.every)
+                stepper.run_kernel(target.kernel, until)
+                if checkpoint is not None and (
+                    session.movements % session.every == 0 or session.movements >= run.movements
+                ):
+                    session._checkpoint_or_fall_back()
+                if callback is not None:
+                    callback(session.movements)
+            return session.result()
+        forward = target.forward  # checks each reading, naming the model if it returns nonsense
+        while not session.done:
+            if (
+                session.tell(forward(session.ask()))
+                and callback is not None
+                and session.movements % every == 0
+            ):
+                callback(session.movements)
+        return session.result()
