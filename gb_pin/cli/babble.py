@@ -254,7 +254,7 @@ def _run(
     return babble(
         robot=robot,
         movements=args.movements,
-        seed=args.seed,
+        seed=0 if args.seed is None else args.seed,  # --continue: init's random stream goes on
         checkpoint=args.checkpoint,
         record=record,
         init=init,

@@ -185,19 +185,21 @@ def model_robot(args: argparse.Namespace) -> Any:
             home = [float(v) for v in comma_list(args.home)]
         except ValueError:
             home = args.home.strip()  # a named posture (SRDF / example-robot-data)
+    targets = None  # --targets given: no goal grid (nor radius) is chosen
+    if getattr(args, "targets", None) is not None:
+        from gb_pin.cli.goal_options import read_points
+
+        targets = read_points(args.targets, "--targets")
+    common: dict[str, Any] = {"home": home, "axes": args.axes, "targets": targets}
     if spec.startswith("erd:"):
         if options["--srdf"] is not None:
             raise InvalidArgumentError(f"--srdf: only with --robot FILE.urdf; {spec} brings its own SRDF")
-        return KinematicTarget.from_example_robot_data(
-            spec[4:], args.frame, joints, home=home, axes=args.axes
-        )
-    return KinematicTarget.from_urdf(
-        spec, args.frame, joints, home=home, axes=args.axes, srdf=options["--srdf"]
-    )
+        return KinematicTarget.from_example_robot_data(spec[4:], args.frame, joints, **common)
+    return KinematicTarget.from_urdf(spec, args.frame, joints, srdf=options["--srdf"], **common)
 
 
 def _frame_hint(spec: str) -> str:
-    """``; frames at the ends of its chains: a, b`` for a model that loads, else ``""``."""
+    """``; its links, chain ends first: a, b, ...`` for a model that loads, else ``""``."""
     try:
         import pinocchio as pin
 
@@ -207,12 +209,11 @@ def _frame_hint(spec: str) -> str:
     except Exception:  # the error about the model itself comes with --frame
         return ""
     parents = {int(model.parents[j]) for j in range(1, model.njoints)}
-    ends = [
-        f.name
-        for f in model.frames
-        if f.type == pin.FrameType.BODY and int(f.parentJoint) > 0 and int(f.parentJoint) not in parents
-    ]
-    return f"; bodies at the ends of its chains: {', '.join(dict.fromkeys(ends))}" if ends else ""
+    bodies = [f for f in model.frames if f.type == pin.FrameType.BODY and int(f.parentJoint) > 0]
+    names = [f.name for f in bodies if int(f.parentJoint) not in parents] + [f.name for f in bodies]
+    names = list(dict.fromkeys(names))
+    more = f", ... ({len(names)} in all)" if len(names) > 20 else ""
+    return f"; its links, the ends of its chains first: {', '.join(names[:20])}{more}" if names else ""
 
 
 def robot_argument(args: argparse.Namespace, default: str | None = None) -> Any:
