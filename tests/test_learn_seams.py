@@ -94,7 +94,7 @@ def test_make_goals_errors_name_the_value() -> None:
     with pytest.raises(gb_pin.InvalidArgumentError, match="closest: cyclic"):
         make_goals("cyclc")
     with pytest.raises(
-        gb_pin.InvalidArgumentError, match="unknown parameter 'stride'.*cyclic takes start, snap"
+        gb_pin.InvalidArgumentError, match=r"unknown parameter 'stride'.*cyclic takes start, snap"
     ):
         make_goals("cyclic", {"stride": 2})
     with pytest.raises(gb_pin.InvalidArgumentError, match="'snp'; did you mean 'snap'"):

@@ -28,9 +28,9 @@ set or a radius, gets them here (``KinematicTarget(..., onboard=True)``, the def
 
 The constants were measured on the arms of example-robot-data (docs/ROBOTS.md, "Any robot": 5 seeds,
 3000 movements): with the largest grid, Panda, TALOS and xArm7 ended at 19-30 % of E_0; with half of
-it and this radius every arm ends below 5 %. Every draw is seeded: the same model, the same choice.
-This module works on anything with a chain and limits (no robot class); only :func:`path_joints` reads
-a ``pin.Model``.
+it, this radius and the probed home, every arm's median is below 3 % (``gb-pin robots --erd``).
+Every draw is seeded: the same model, the same choice. This module works on anything with a chain
+and limits (no robot class); only :func:`path_joints` reads a ``pin.Model``.
 """
 
 from __future__ import annotations
