@@ -29,6 +29,12 @@ SMALL_URDF = Path(__file__).parent / "data" / "small_arm.urdf"
 
 
 @pytest.fixture(scope="module")
+def z1() -> KinematicTarget:
+    """Unitree Z1's link06 from its frame alone (its SRDF postures sit on its joint limits)."""
+    return KinematicTarget.from_example_robot_data("z1", "link06")
+
+
+@pytest.fixture(scope="module")
 def small_arm() -> KinematicTarget:
     """The README's URDF robot: the small test arm's tool over j1, j2, j3, the rest onboarded."""
     return KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j2", "j3"])
@@ -57,14 +63,14 @@ def test_the_joints_that_move_the_frame_leave_the_base_legs_and_wrist_out() -> N
         assert np.linalg.norm(J[:, model.joints[model.getJointId(name)].idx_v]) < 1e-12
 
 
-def test_the_home_is_inside_the_limits_away_from_them_and_from_singularities() -> None:
+def test_the_home_is_inside_the_limits_away_from_them_and_from_singularities(z1: KinematicTarget) -> None:
     """Z1's reference postures sit on its limits; the chosen home keeps every joint >= 15 % of its range away.
 
     Candidates are drawn in the central 70 % of each range (or are the middle of the limits), so the
     margin is at least 0.15; the smallest singular value of the task Jacobian is far from 0; the
     same model gives the same home bit for bit (seeded), and its grid is reachable (auto_grid).
     """
-    a = KinematicTarget.from_example_robot_data("z1", "link06")
+    a = z1
     b = KinematicTarget.from_example_robot_data("z1", "link06")
     np.testing.assert_array_equal(a.home, b.home)
     np.testing.assert_array_equal(a.targets, b.targets)
@@ -97,7 +103,9 @@ def test_a_home_given_is_kept_and_only_the_rest_is_chosen() -> None:
     assert given.onboarding is None and given.learner_defaults == {}  # everything given: nothing chosen
 
 
-def test_sigma_is_capped_where_the_exploration_would_drown_a_small_grid(small_arm: KinematicTarget) -> None:
+def test_sigma_is_capped_where_the_exploration_would_drown_a_small_grid(
+    small_arm: KinematicTarget, z1: KinematicTarget
+) -> None:
     """The README's URDF command: the small arm's j1-j3 (a 10 cm prismatic shell) get a 1 cm grid.
 
     Eq. 12's sigma would move the tool by about 0.2 m at home (37 times the grid's half-width: the
@@ -112,7 +120,6 @@ def test_sigma_is_capped_where_the_exploration_would_drown_a_small_grid(small_ar
     assert exploration == pytest.approx(onboarding.DEVIATION_SHARE * record.half_width)
     assert record.sigma < default_sigma(3) / 10
     assert arm.learner_defaults == {"radius": record.radius, "sigma": record.sigma}
-    z1 = KinematicTarget.from_example_robot_data("z1", "link06")
     assert z1.onboarding is not None and z1.onboarding.sigma is None  # Eq. 12's: no cap needed
 
 

@@ -152,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
     # robot fails here, before the kernels compile.
     init, robot = _read_continue(args) if args.continue_from else (None, None)
     if init is None and not args.resume:
-        robot = robot_argument(args)
+        robot = robot_argument(args, targets=goal_args.get("targets"))
     for line in onboarding_lines(robot):
         print(line, flush=True)
     if not args.resume:

@@ -151,11 +151,12 @@ def is_model_spec(spec: str) -> bool:
     return spec.lower().endswith(".urdf") or spec.startswith("erd:")
 
 
-def model_robot(args: argparse.Namespace) -> Any:
+def model_robot(args: argparse.Namespace, targets: Any = None) -> Any:
     """--robot FILE.urdf or erd:NAME (with --frame, --joints, --home, --axes, --srdf) as a KinematicTarget.
 
     None when ``--robot`` names no model. What the options leave out is chosen by measurement
-    (:mod:`gb_pin.robot.onboarding`; :func:`onboarding_lines` says what).
+    (:mod:`gb_pin.robot.onboarding`; :func:`onboarding_lines` says what); ``targets`` (the points of
+    ``--targets``) are the robot's goal set, so that no goal grid nor radius is chosen.
 
     Raises:
         InvalidArgumentError: --frame missing, or model options given with a preset or MODULE:NAME.
@@ -185,11 +186,6 @@ def model_robot(args: argparse.Namespace) -> Any:
             home = [float(v) for v in comma_list(args.home)]
         except ValueError:
             home = args.home.strip()  # a named posture (SRDF / example-robot-data)
-    targets = None  # --targets given: no goal grid (nor radius) is chosen
-    if getattr(args, "targets", None) is not None:
-        from gb_pin.cli.goal_options import read_points
-
-        targets = read_points(args.targets, "--targets")
     common: dict[str, Any] = {"home": home, "axes": args.axes, "targets": targets}
     if spec.startswith("erd:"):
         if options["--srdf"] is not None:
@@ -216,18 +212,18 @@ def _frame_hint(spec: str) -> str:
     return f"; its links, the ends of its chains first: {', '.join(names[:20])}{more}" if names else ""
 
 
-def robot_argument(args: argparse.Namespace, default: str | None = None) -> Any:
+def robot_argument(args: argparse.Namespace, default: str | None = None, targets: Any = None) -> Any:
     """The robot ``--robot`` and the model options name: a preset's name, a model or a loaded MODULE:NAME.
 
     A preset stays a name (its learner defaults come with it); a URDF or erd:NAME model is built
-    (:func:`model_robot`); a MODULE:NAME is imported (:mod:`gb_pin.robot.spec`).
+    (:func:`model_robot`, with ``targets`` if given); a MODULE:NAME is imported (:mod:`gb_pin.robot.spec`).
 
     Raises:
         InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
     """
     if args.robot is None and default is not None and args.frame is None:
         args.robot = default
-    robot = model_robot(args)
+    robot = model_robot(args, targets)
     if robot is not None or args.robot is None:
         return robot
     from gb_pin.robot.spec import is_robot_spec, load_robot_spec

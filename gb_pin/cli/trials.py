@@ -67,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
     check.positive_int("--trials", args.trials)
     check.movements("--movements", args.movements, minimum=1)
     checks.outputs(args, json="--json", checkpoint="--checkpoint")
-    robot = robot_argument(args, default="planar5")  # each worker builds a model robot again
+    goal_args = goal_values(args, as_lists=True)
+    robot = robot_argument(args, "planar5", goal_args.get("targets"))  # each worker builds it again
     for line in onboarding_lines(robot):
         print(line, flush=True)
     start = time.perf_counter()
@@ -81,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         checkpoint=args.checkpoint,
         **learner_values(args, given_only=True),
-        **goal_values(args, as_lists=True),
+        **goal_args,
     )
     _print_summary(args, result, time.perf_counter() - start)
     if args.json is not None:
