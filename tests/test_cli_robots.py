@@ -254,3 +254,27 @@ def test_view_says_it_waits_and_names_view_wait(monkeypatch: pytest.MonkeyPatch,
     _start_viewer(args)
     out = capsys.readouterr().out
     assert "waiting up to 0.01 s for a browser" in out and "--view-wait" in out
+
+
+def test_the_goal_study_takes_a_model_robot(tmp_path: Path) -> None:
+    """`gb-pin reproduce goals --robot ...`: conditions on the onboarded robot, cached by its source.
+
+    The cache key holds the robot source (its chain's digest): another robot, or the same model with
+    other joints, never reads these trials.
+    """
+    from gb_pin.reproduce.goals import _cache_file, study_conditions
+
+    arm = gb_pin.KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j2", "j3"])
+    rows = study_conditions(arm, 300)
+    assert [label for label, _, _ in rows][:2] == ["uniform on X*", "uniform on O"]
+    label, condition, _ = rows[0]
+    assert condition.label.startswith("small_arm ") and condition.to_json()["robot_source"]["kind"] == "urdf"
+    other = gb_pin.KinematicTarget.from_urdf(
+        SMALL_URDF, "tool", ["j1", "j2", "j4"], [0.3, -0.5, 1.0], onboard=False
+    )
+    other.targets = other.home_position + 0.02 * np.eye(3)
+    other_condition = study_conditions(other, 300)[0][1]
+    assert _cache_file(str(tmp_path), label, condition, 5, 0) != _cache_file(
+        str(tmp_path), label, other_condition, 5, 0
+    )
+    assert main(["reproduce", "fig3", "--robot", "planar5", "--out", str(tmp_path)]) == 2  # goals only
