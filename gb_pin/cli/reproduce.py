@@ -11,6 +11,7 @@ from gb_pin.cli.options import (
     add_quiet,
     add_trial_seed,
     add_workers,
+    comma_list,
     onboarding_lines,
     robot_argument,
 )
@@ -35,7 +36,12 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         nargs="+",
         metavar="FIGURE",
         help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all; or goals: the goal generators of "
-        "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused)",
+        "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused); "
+        "or hardware: mis-calibrated arms, URDF IK vs learned vs feedback (docs/HARDWARE.md; --trials "
+        "arms per robot, default 20; --robots)",
+    )
+    p.add_argument(
+        "--robots", default=None, help="hardware: comma-separated robots (default so101,so100,panda)"
     )
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
     p.add_argument(
@@ -72,6 +78,16 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.reproduce import reproduce
 
     checks.directory(args.out, "--out")
+    if args.figures == ["hardware"]:
+        from gb_pin.reproduce.hardware import run_hardware
+
+        robots = ("so101", "so100", "panda") if args.robots is None else tuple(comma_list(args.robots))
+        files = run_hardware(
+            args.out, robots=robots, arms=20 if args.trials is None else args.trials,
+            movements=args.movements, workers=args.workers, fresh=args.fresh, progress=not args.quiet,
+        )  # fmt: skip
+        print(f"wrote {len(files)} files to {args.out} (see hardware.md)")
+        return 0
     if args.figures == ["goals"]:
         from gb_pin.reproduce.goals import ROBOTS, goal_study
 

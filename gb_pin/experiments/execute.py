@@ -30,6 +30,7 @@ from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
 from gb_pin.runs.api import babble
+from gb_pin.runs.spec import RunSpec
 
 
 def run_one_trial(
@@ -383,8 +384,10 @@ def run_trials(
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
 
     Args:
-        robot: preset name, MODULE:NAME, or a KinematicTarget loaded from a URDF or
-            example-robot-data (each worker rebuilds it from its robot source, onboarding included).
+        robot: preset name, MODULE:NAME, a KinematicTarget loaded from a URDF or example-robot-data
+            (each worker rebuilds it from its robot source, onboarding included), or a
+            :class:`~gb_pin.runs.spec.RunSpec` (then ``movements`` and ``seed`` are the spec's, and no
+            babble arguments are given here).
         trials: number of trials.
         movements: movements per trial.
         seed: seed of trial 0.
@@ -403,6 +406,12 @@ def run_trials(
         A :class:`~gb_pin.experiments.trialset.TrialSet`; identical for any number of
         workers, locally or on Dask.
     """
+    if isinstance(robot, RunSpec):  # the run's one description: its robot, movements and seed too
+        if babble_args:
+            raise InvalidArgumentError(
+                f"give the run as a RunSpec or as arguments, not both: {sorted(babble_args)}"
+            )
+        robot, movements, seed, babble_args = robot.trial_arguments()
     task_robot(robot)  # a robot that workers cannot rebuild is refused here
     check_parameters(babble_args)
     movements = check.positive_int("movements", movements)
