@@ -278,3 +278,15 @@ def test_the_goal_study_takes_a_model_robot(tmp_path: Path) -> None:
         str(tmp_path), label, other_condition, 5, 0
     )
     assert main(["reproduce", "fig3", "--robot", "planar5", "--out", str(tmp_path)]) == 2  # goals only
+
+
+def test_srdf_named_postures_from_the_command_line(tmp_path: Path, capsys: Any) -> None:
+    """`--srdf FILE --home NAME`: the SRDF's posture is the home (the rest chosen); not with erd:NAME."""
+    out = tmp_path / "ready.npz"
+    srdf = SMALL_URDF.with_suffix(".srdf")
+    argv = ["babble", "--robot", str(SMALL_URDF), "--frame", "tool", "--srdf", str(srdf), "--home", "ready"]
+    assert main([*argv, "--movements", "20", "--quiet", "--out", str(out)]) == 0
+    assert "  home      " not in capsys.readouterr().out  # given, not chosen
+    np.testing.assert_allclose(gb_pin.load_result(out).target.home, [0.3, -0.5, 0.05, 1.0], atol=1e-15)
+    assert main(["babble", "--robot", "erd:z1", "--frame", "link06", "--srdf", str(srdf)]) == 2
+    assert "--srdf: only with --robot FILE.urdf" in capsys.readouterr().err
