@@ -265,7 +265,9 @@ def test_a_urdf_robot_jacobian_and_solve() -> None:
     """A robot from a URDF file (tests/data/small_arm.urdf): Jacobian as Pinocchio's, targets solved."""
     from pathlib import Path
 
-    target = KinematicTarget.from_urdf(Path(__file__).parent / "data" / "small_arm.urdf", "tool")
+    target = KinematicTarget.from_urdf(
+        Path(__file__).parent / "data" / "small_arm.urdf", "tool", onboard=False
+    )
     rng = np.random.default_rng(6)
     Q = target.clip(target.home + rng.uniform(-0.3, 0.3, (20, target.n_joints)))
     for q in Q[:5]:

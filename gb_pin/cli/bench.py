@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import comma_list
+from gb_pin.cli.options import add_model_options, comma_list, robot_list
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -22,8 +22,12 @@ def add_bench(sub: Subparsers) -> None:
 def _add_options(s: argparse.ArgumentParser) -> None:
     """``bench``'s options."""
     s.add_argument(
-        "--robots", default=None, help="comma-separated presets (default planar5,20,50; --ik: all)"
+        "--robots",
+        default=None,
+        help="comma-separated robots (default planar5,20,50; --ik: all presets): presets, MODULE:NAME, "
+        "or a URDF file or erd:NAME with --frame (and the other model options)",
     )
+    add_model_options(s)
     s.add_argument("--movements", type=int, default=None, help="movements per run (default 2000; --ik 3000)")
     s.add_argument("--repeat", type=int, default=3, help="runs per robot, best is reported (default 3)")
     s.add_argument(
@@ -47,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
     movements = 2000 if args.movements is None else args.movements
     check.positive_int("--repeat", args.repeat)
     check.movements("--movements", movements, minimum=1)
-    rows = run_benchmark(comma_list(args.robots or ROBOTS_DEFAULT), movements=movements, repeat=args.repeat)
+    robots = robot_list(args, comma_list(args.robots or ROBOTS_DEFAULT))
+    rows = run_benchmark(robots, movements=movements, repeat=args.repeat)
     print(format_table(rows))
     return 0
 

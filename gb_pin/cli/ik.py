@@ -8,6 +8,8 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
+from gb_pin.cli.options import add_model_options, result_robot
+
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
     from gb_pin.ik.solution import IKSolution
@@ -44,6 +46,7 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     s.add_argument("--tol", type=float, default=1e-4, help="success tolerance [m] (default 1e-4)")
     s.add_argument("--max-iterations", type=int, default=100, help="steps per target (default 100)")
     s.add_argument("--json", action="store_true", help="print the solutions as JSON")
+    add_model_options(s, robot=True)
     s.set_defaults(func=run)
 
 
@@ -128,8 +131,15 @@ def run(args: argparse.Namespace) -> int:
     """Load the run, solve the targets, print them; 1 when a target is not reached."""
     from gb_pin.runs.result import load_result
 
-    result = load_result(args.run)
+    result = load_result(args.run, target=result_robot(args))  # None: the robot the file records
     target = result.target
+    if getattr(target, "chain", None) is None:  # a robot given as a function: no Jacobian to refine on
+        from gb_pin.exceptions import InvalidArgumentError
+
+        raise InvalidArgumentError(
+            f"{args.run}: gb-pin ik refines on the robot's kinematic chain, which {target.name!r} (a robot "
+            "given as a function) has none of; its learned postures are result.inverse(X) in Python"
+        )
     X = _targets(args, target.axes, target.name)
     sol = result.solve(X, tol=args.tol, max_iterations=args.max_iterations, seed=args.seed)
     if args.json:

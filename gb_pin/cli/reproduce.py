@@ -5,7 +5,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_quiet, add_trial_seed, add_workers, comma_list
+from gb_pin.cli.options import (
+    ROBOT_HELP,
+    add_model_options,
+    add_quiet,
+    add_trial_seed,
+    add_workers,
+    comma_list,
+    onboarding_lines,
+    robot_argument,
+)
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -52,6 +61,13 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         help="run the trials on this Dask scheduler (tcp://host:8786) or SLURM (slurm:cores=4,memory=8GB)",
     )
     p.add_argument("--fresh", action="store_true", help="ignore the cached trials in OUT/trials")
+    p.add_argument(
+        "--robot",
+        default=None,
+        help="goals only: run the study on this robot instead of planar5, planar20, talos_left_arm and "
+        "g1_left_arm: " + ROBOT_HELP,
+    )
+    add_model_options(p)
     add_quiet(p)
     p.set_defaults(func=run)
 
@@ -73,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {len(files)} files to {args.out} (see hardware.md)")
         return 0
     if args.figures == ["goals"]:
-        from gb_pin.reproduce.goals import goal_study
+        from gb_pin.reproduce.goals import ROBOTS, goal_study
 
         trials = 20 if args.trials is None else args.trials
         kw = {
@@ -82,9 +98,18 @@ def run(args: argparse.Namespace) -> int:
             "workers": args.workers,
             "progress": not args.quiet,
         }
-        files = goal_study(args.out, trials=trials, **kw)
+        robot = robot_argument(args)
+        for line in onboarding_lines(robot):
+            print(line, flush=True)
+        files = goal_study(args.out, trials=trials, robots=ROBOTS if robot is None else [robot], **kw)
         print(f"wrote {len(files)} files to {args.out} (see goals.md)")
         return 0
+    if args.robot is not None or args.frame is not None:
+        from gb_pin.exceptions import InvalidArgumentError
+
+        raise InvalidArgumentError(
+            "--robot: only with `reproduce goals`; the paper's figures are of its planar arms"
+        )
     result = reproduce(
         args.figures,
         out=args.out,

@@ -38,7 +38,8 @@ class BabbleResult:
         wall_time: seconds spent babbling (compilation excluded after the first call).
         recording: the recorded steps, if ``record`` was given.
         state: the run's final :class:`~gb_pin.learn.state.BabbleState` (map, noise, random
-            stream, posture), for ``babble(..., init=result)``; None for results read from files.
+            stream, posture), for ``babble(..., init=result)``; result files hold it, so that
+            ``babble(init=load_result(path))`` continues a saved run (None for older files).
         goals: the goal generator, e.g. ``"DirectionGoals(distance=0.2, snap=0.05)"``; None for
             the paper's uniform choice.
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
@@ -62,6 +63,28 @@ class BabbleResult:
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
     missing: int = 0
 
+    def __repr__(self) -> str:
+        """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
+        e0 = float(self.history.error[0])
+        share = f", {self.error / e0:.1%} of E_0" if e0 > 0 else ""
+        recorded = "None" if self.recording is None else f"<{len(self.recording.step)} steps>"
+        goal_set = "" if self.goal_targets is None else f", goal_targets=<{_shape(self.goal_targets)} array>"
+        return "\n".join(
+            [
+                "BabbleResult(",
+                f"  target={self.target!r}, robot={self.robot!r},",
+                f"  movements={self.movements}, steps={self.steps}, seed={self.seed!r}, "
+                f"wall_time={self.wall_time:.3g} s,",
+                f"  error={self.error:.4g} m (E^X; E_0 = {e0:.4g} m{share}), "
+                f"home_distance={self.home_distance:.4g} rad, n_prototypes={self.n_prototypes},",
+                f"  targets=<{_shape(self.targets)} array>, history=<{len(self.history.movements)} records>, "
+                f"recording={recorded}{goal_set},",
+                f"  config={self.config!r},",
+                f"  goals={self.goals!r},",
+                ")",
+            ]
+        )
+
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
         return self.model.predict(X)
@@ -80,6 +103,16 @@ class BabbleResult:
     def n_prototypes(self) -> int:
         """Number of local linear models K."""
         return self.model.n_prototypes_
+
+    def diagnose(self) -> str | None:
+        """Why the run stayed degenerate and what to try, in one line; None if it learned.
+
+        Degenerate: E^X above half of E_0, or at most 5 local models, after 100 movements or more
+        (:mod:`gb_pin.runs.diagnosis`); ``gb-pin babble`` ends such a run with this warning.
+        """
+        from gb_pin.runs.diagnosis import diagnose
+
+        return diagnose(self)
 
     def task_errors(self) -> Any:
         """Final errors per task component over ``targets``: positions [m], rotations [deg] (docs/TASKS.md).
@@ -235,3 +268,8 @@ def goal_fields(state: BabbleState) -> dict[str, Any]:
         "goals": None if default else repr(state.goals),
         "goal_targets": None if same or not state.goals.needs_targets else state.targets,
     }
+
+
+def _shape(array: NDArray[np.float64]) -> str:
+    """``27 x 3``: an array's shape for :meth:`BabbleResult.__repr__`."""
+    return " x ".join(str(s) for s in np.shape(array))

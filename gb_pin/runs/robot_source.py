@@ -13,9 +13,12 @@ in the header's ``robot_source``, a small JSON object saying how to build it aga
 
 ``home`` is the resolved home posture (numbers over ``joints``), ``chain_sha256`` the digest of the
 kinematic chain the run learned on: a rebuilt robot whose kinematics differ (the URDF was edited) is
-refused, never silently used. A file is untrusted input: :func:`check` validates every entry (types,
-lengths, values) before anything is built. A module spec is never imported on a file's word (importing
-runs the module's code): the user passes that robot (``--robot MODULE:NAME``, ``target=``).
+refused, never silently used. An onboarded robot (:mod:`gb_pin.robot.onboarding`) adds ``onboarding``,
+what was chosen by measurement (the goal grid's half-width and shape, the radius...): the rebuilt robot
+has the same goal grid and radius without measuring again. A file is untrusted input: :func:`check`
+validates every entry (types, lengths, values) before anything is built. A module spec is never
+imported on a file's word (importing runs the module's code): the user passes that robot (``--robot
+MODULE:NAME``, ``target=``).
 """
 
 from __future__ import annotations
@@ -36,11 +39,12 @@ MAX_TEXT = 4096  # characters of a path or a module spec
 MAX_NAME = 256  # characters of a robot, frame or joint name
 MAX_JOINTS = 4096
 _KEYS = {
-    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256"},
-    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256"},
+    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
+    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
     "module": {"kind", "spec"},
     "plant": {"kind", "base", "offsets", "scales", "noise", "loss", "seed", "name", "chain_sha256"},
 }
+MAX_GRID_COUNT = 1000  # points per axis of a recorded goal grid
 
 
 def chain_digest(chain: Any) -> str:
@@ -90,7 +94,7 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return {"kind": "module", "spec": spec} if _printable(spec, MAX_TEXT) else None
     if not isinstance(target, KinematicTarget) or target.urdf is None:
         return None
-    common = {
+    common: dict[str, Any] = {
         "frame": target.frame,
         "joints": list(target.joints),
         "home": [float(v) for v in target.home],
@@ -98,6 +102,8 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         "name": target.name,
         "chain_sha256": chain_digest(target.chain),
     }
+    if target.onboarding is not None:
+        common["onboarding"] = target.onboarding.to_json()
     erd = _erd_name(target.urdf)
     if erd is not None:
         source = {"kind": "erd", "robot": erd, **common}
@@ -257,7 +263,53 @@ def check(path: str, value: Any) -> dict[str, Any] | None:
     digest = value.get("chain_sha256")
     if not isinstance(digest, str) or not re.fullmatch("[0-9a-f]{64}", digest):
         raise _fail(path, "chain_sha256", digest, "64 hexadecimal digits")
+    if "onboarding" in value:
+        _check_onboarding(path, value["onboarding"], len(axes))
     return dict(value)
+
+
+def _number(value: Any, minimum: float, none: bool = False) -> bool:
+    """A finite real number >= ``minimum`` (or None where ``none``)."""
+    if value is None:
+        return none
+    return isinstance(value, int | float) and not isinstance(value, bool) and minimum <= value < math.inf
+
+
+def _check_onboarding(path: str, value: Any, n_axes: int) -> None:
+    """Raise unless ``value`` is an :meth:`Onboarding.to_json` record of a robot with ``n_axes`` task axes."""
+    from gb_pin.robot.onboarding import CHOSEN
+
+    keys = {"chosen", "dropped", "margin", "sigma_min", "half_width", "largest_half_width", "shape", "radius"}
+    keys.add("sigma")
+    if not isinstance(value, dict) or set(value) != keys:
+        raise _fail(path, "onboarding", value, f"an object with keys {sorted(keys)}")
+    chosen, dropped, shape = value["chosen"], value["dropped"], value["shape"]
+    if not isinstance(chosen, list) or not set(chosen) <= set(CHOSEN) or len(set(chosen)) < len(chosen):
+        raise _fail(path, "onboarding.chosen", chosen, f"distinct names among {list(CHOSEN)}")
+    if (
+        not isinstance(dropped, list)
+        or len(dropped) > MAX_JOINTS
+        or not all(_printable(j, MAX_NAME) for j in dropped)
+    ):
+        raise _fail(path, "onboarding.dropped", dropped, "a list of joint names")
+    grid = "targets" in chosen
+    if (
+        not isinstance(shape, list)
+        or len(shape) != (n_axes if grid else 0)
+        or not all(isinstance(c, int) and not isinstance(c, bool) and 1 <= c <= MAX_GRID_COUNT for c in shape)
+    ):
+        raise _fail(
+            path, "onboarding.shape", shape, f"{n_axes if grid else 0} counts in [1, {MAX_GRID_COUNT}]"
+        )
+    for key, minimum, none in (
+        ("margin", 0.0, True), ("sigma_min", 0.0, True), ("half_width", 0.0, False),
+        ("largest_half_width", 0.0, False), ("radius", 1e-9, not grid),
+        ("sigma", 1e-12, True),
+    ):  # fmt: skip
+        if not _number(value[key], minimum, none):
+            raise _fail(path, f"onboarding.{key}", value[key], f"a finite number >= {minimum:g}")
+    if grid and not value["half_width"] > 0:
+        raise _fail(path, "onboarding.half_width", value["half_width"], "> 0 for a chosen goal grid")
 
 
 def explain(source: dict[str, Any]) -> str:
@@ -295,7 +347,7 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
             f"word (importing a module runs it); if you trust it, {hint}"
         )
     args = (source["frame"], source["joints"])
-    options = {"home": np.asarray(source["home"], dtype=np.float64), "axes": source["axes"]}
+    options = {"home": np.asarray(source["home"], dtype=np.float64), "axes": source["axes"], "onboard": False}
     try:
         if source["kind"] == "urdf":
             target = KinematicTarget.from_urdf(source["path"], *args, **options, name=source["name"])
@@ -310,4 +362,17 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
             f"{path}: the rebuilt robot's kinematics differ from the run's (was the model edited "
             f"since?); it was {hint}"
         )
+    if "onboarding" in source:
+        restore_onboarding(target, source["onboarding"])
     return target
+
+
+def restore_onboarding(target: Any, raw: dict[str, Any]) -> None:
+    """Give a rebuilt ``target`` its onboarding record ``raw`` (checked) and goal grid, not measured again."""
+    from gb_pin.robot.grids import regular_grid
+    from gb_pin.robot.onboarding import Onboarding
+
+    record = Onboarding.from_json(raw)
+    if "targets" in record.chosen:
+        target.targets = regular_grid(target.home_position, record.half_width, record.shape)
+    target.onboarding = record

@@ -42,7 +42,11 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
     """
     if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot):
         preset = getattr(robot, "preset", None)  # a plant of a preset learns with the preset's defaults
-        return robot, None, dict(get_preset(preset)[0].learner) if isinstance(preset, str) else {}
+        if isinstance(preset, str):
+            return robot, None, dict(get_preset(preset)[0].learner)
+        # An onboarded robot (or a plant of one) brings the radius and sigma it measured.
+        model = robot if isinstance(robot, KinematicTarget) else getattr(robot, "target", None)
+        return robot, None, dict(model.learner_defaults) if isinstance(model, KinematicTarget) else {}
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):
