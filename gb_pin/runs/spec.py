@@ -133,11 +133,12 @@ class RunSpec:
         """The learner's hyperparameters given (None: default), by the table's names."""
         return {name: getattr(self, name) for name in NAMES}
 
-    def trial_arguments(self) -> tuple[str, int, int, dict[str, Any]]:
+    def trial_arguments(self) -> tuple[Any, int, int, dict[str, Any]]:
         """(robot, movements, seed, babble arguments) for trials (:func:`gb_pin.run_trials`).
 
-        Trials travel to worker processes and journals as plain values: the robot by name, the goal
-        generator by its name, point sets as lists.
+        Trials travel to worker processes and journals as plain values: the robot by name (or a
+        model that records how to rebuild it: :func:`gb_pin.run_trials` checks), the goal generator
+        by its name, point sets as lists.
 
         Raises:
             InvalidArgumentError: a field trials cannot carry (a robot object, a Generator seed,
@@ -146,8 +147,6 @@ class RunSpec:
         plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets"}
         others = [f.name for f in dataclasses.fields(self)
                   if f.name not in plain and not _is_default(getattr(self, f.name), f.default)]  # fmt: skip
-        if not isinstance(self.robot, str):
-            others.insert(0, "robot (an object: trials take a name, a URDF/erd: model or MODULE:NAME)")
         if isinstance(self.seed, np.random.Generator):
             others.append("seed (a Generator: trial i uses seed + i)")
         if self.goals is not None and not isinstance(self.goals, str):
@@ -163,7 +162,7 @@ class RunSpec:
             value = getattr(self, key)
             if value is not None:
                 args[key] = np.asarray(value, dtype=float).tolist()
-        return str(self.robot), int(self.movements), int(self.seed), args  # type: ignore[arg-type]
+        return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
 
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (checked again)."""
