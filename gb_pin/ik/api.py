@@ -66,6 +66,8 @@ MAX_OUTPUT_BYTES = 2**31
 MAX_COORDINATE = 1e6
 """Targets farther than this [m] are refused: no robot reaches them, and their residual would overflow."""
 SEED_NAMES = ("learned", "nearest", "home", "middle")
+SEED_CUT = 16.0
+"""The learned seed g(x*) sums the prototypes whose activation is above exp(-16) of the nearest one's."""
 
 Seed = Literal["learned", "nearest", "home", "middle"] | ArrayLike
 
@@ -254,7 +256,7 @@ def solve(
     mode, given, arrays, count, label = _seeds(robot, chain, N, model, seed)
     reference = np.zeros((1, m)) if closest_to is None else _postures("closest_to", closest_to, m, N)
     base = np.uint64(check.generator(rng).integers(0, 2**63, dtype=np.uint64))
-    seeds = IKSeeds(mode, given, arrays, count, reference, closest_to is not None, base)
+    seeds = IKSeeds(mode, given, arrays, count, SEED_CUT, reference, closest_to is not None, base)
     n, C = chain.n_task, max(chain.n_components, 1)
     out = IKOut(
         np.full((N, k, m), np.nan), np.full((N, k, n), np.nan), np.full((N, k), np.nan),

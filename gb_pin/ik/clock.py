@@ -15,12 +15,13 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from llvmlite import ir
+from llvmlite import ir  # type: ignore[import-untyped]
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
 from gb_pin._jit import njit
+from gb_pin.ik.compiled import NO_REFCOUNT
 
 __all__ = ["CLOCK_ID", "now", "stream_seed", "uniform"]
 
@@ -45,7 +46,7 @@ def _clock_gettime(typingctx, clock, address):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
 def now(clock, buf):  # type: ignore[no-untyped-def]
     """Seconds on the monotonic clock ``clock`` (``buf``: int64 (2,) scratch for the timespec); 0 if none."""
     if clock < 0:
@@ -54,13 +55,13 @@ def now(clock, buf):  # type: ignore[no-untyped-def]
     return float(buf[0]) + 1e-9 * float(buf[1])
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
 def stream_seed(base, index, state):  # type: ignore[no-untyped-def]
     """Start the stream of target ``index`` in ``state`` (uint64 (1,)) from the run's ``base`` (uint64)."""
     state[0] = base ^ (np.uint64(index) * _GOLDEN)
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
 def uniform(state):  # type: ignore[no-untyped-def]
     """A float uniform in [0, 1) from the splitmix64 stream in ``state`` (uint64 (1,)), advanced."""
     state[0] += _GOLDEN

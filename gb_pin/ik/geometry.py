@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 from gb_pin._jit import njit
+from gb_pin.ik.compiled import NO_REFCOUNT
 from gb_pin.learn.body.components import ORIENTATION, POSITION
 from gb_pin.learn.body.joints import REVOLUTE
 
@@ -39,7 +40,7 @@ __all__ = [
 _NEAR_PI_SIN = 1e-4  # below this sin(theta), with cos(theta) < 0, the axis comes from the symmetric part
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def log3(M):  # type: ignore[no-untyped-def]
     """The rotation vector (x, y, z) and angle theta of a rotation matrix ``M`` (3, 3); theta in [0, pi]."""
     wx = 0.5 * (M[2, 1] - M[1, 2])
@@ -73,7 +74,7 @@ def log3(M):  # type: ignore[no-untyped-def]
     return theta * ax, theta * ay, theta * az, theta
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def exp3(px, py, pz):  # type: ignore[no-untyped-def]
     """The rotation exp([p]x) of the rotation vector (px, py, pz), as 9 numbers row by row (Rodrigues)."""
     theta = math.sqrt(px * px + py * py + pz * pz)
@@ -90,7 +91,7 @@ def exp3(px, py, pz):  # type: ignore[no-untyped-def]
     )  # fmt: skip
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def component_frame(comps, c, rot_ws, pos_ws, W, p):  # type: ignore[no-untyped-def]
     """World rotation ``W`` (3, 3) and position ``p`` (3,) of component ``c``'s frame."""
     f = comps.component_parents[c]
@@ -106,7 +107,7 @@ def component_frame(comps, c, rot_ws, pos_ws, W, p):  # type: ignore[no-untyped-
             W[a, b] = r0 * B[c, 0, b] + r1 * B[c, 1, b] + r2 * B[c, 2, b]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def goal_from_task(comps, x, goal_pos, goal_rot):  # type: ignore[no-untyped-def]
     """The geometric goal of task vector ``x`` (n,): per component c, ``goal_pos[c]`` (3,), ``goal_rot[c]``.
 
@@ -148,7 +149,7 @@ def goal_from_task(comps, x, goal_pos, goal_rot):  # type: ignore[no-untyped-def
         row += comps.component_sizes[c]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def pointing_direction(comps, c, rot_ws, d):  # type: ignore[no-untyped-def]
     """The world direction ``d`` (3,) of pointing component ``c``'s axis."""
     f = comps.component_parents[c]
@@ -161,7 +162,7 @@ def pointing_direction(comps, c, rot_ws, d):  # type: ignore[no-untyped-def]
         )
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def _position_rows(robot, w, c, row):  # type: ignore[no-untyped-def]
     """Position component ``c``: e = p* - p and the linear velocity rows (see :func:`errors_and_jacobian`)."""
     joints, comps, rot_ws, pos_ws = robot.joints, robot.comps, robot.rot_ws, robot.pos_ws
@@ -194,7 +195,7 @@ def _position_rows(robot, w, c, row):  # type: ignore[no-untyped-def]
     return r2
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def _rotation_rows(robot, w, c, row):  # type: ignore[no-untyped-def]
     """Orientation or pointing component ``c``: its error and angular velocity rows (weighted)."""
     joints, comps, rot_ws = robot.joints, robot.comps, robot.rot_ws
@@ -245,7 +246,7 @@ def _rotation_rows(robot, w, c, row):  # type: ignore[no-untyped-def]
     return wgt * wgt * theta * theta
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def errors_and_jacobian(robot, w):  # type: ignore[no-untyped-def]
     """Weighted geometric errors ``w.e`` (n_e,), their Jacobian ``w.J`` (n_e, m), ``w.residuals`` (C,).
 
@@ -271,7 +272,7 @@ def errors_and_jacobian(robot, w):  # type: ignore[no-untyped-def]
     return total
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def within(robot, residuals, tol, angle_tol):  # type: ignore[no-untyped-def]
     """Whether every position residual is <= ``tol`` [m] and every angle residual <= ``angle_tol`` [rad]."""
     kinds = robot.comps.component_kinds

@@ -16,9 +16,7 @@ over. An attempt stops on success (every component within its tolerance), after
 deadline. Nothing is allocated per iteration.
 
 The kernels here, in :mod:`~gb_pin.ik.geometry` and :mod:`~gb_pin.ik.search` allocate nothing
-and are compiled without numba's reference counting (``_nrt=False``): with it, every array
-read from the robot and work structures was counted in and out, and an evaluation of the
-Panda's pose errors took 1.5 us instead of 0.3 (min of 15 runs of 2 x 10^4 on this machine).
+and are compiled without numba's reference counting (:mod:`gb_pin.ik.compiled`).
 """
 
 from __future__ import annotations
@@ -31,6 +29,7 @@ from numpy.typing import NDArray
 
 from gb_pin._jit import njit
 from gb_pin.ik.clock import now
+from gb_pin.ik.compiled import NO_REFCOUNT
 from gb_pin.ik.geometry import errors_and_jacobian, within
 from gb_pin.learn.body.joints import Joints, joints_forward
 from gb_pin.learn.body.task import StackedTaskArrays
@@ -125,7 +124,7 @@ def work_buffers(n_e: int, m: int, C: int) -> Work:
     )  # fmt: skip
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def _cholesky_solve(A, y):  # type: ignore[no-untyped-def]
     """y <- A^-1 y for symmetric positive definite A (its lower triangle is overwritten)."""
     d = y.shape[0]
@@ -147,7 +146,7 @@ def _cholesky_solve(A, y):  # type: ignore[no-untyped-def]
         y[a] = s / A[a, a]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def _damped_solve(w, lam2):  # type: ignore[no-untyped-def]
     """The damped least-squares step over the free joints into ``w.dq``."""
     J, A, e, y, dq, free = w.J, w.A, w.e, w.y, w.dq, w.free
@@ -182,7 +181,7 @@ def _damped_solve(w, lam2):  # type: ignore[no-untyped-def]
             dq[c] = y[c] * free[c]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def dls_step(q, robot, lam2, w):  # type: ignore[no-untyped-def]
     """The damped least-squares step ``w.dq`` (m,) for error ``w.e`` and Jacobian ``w.J`` at ``q``.
 
@@ -208,14 +207,14 @@ def dls_step(q, robot, lam2, w):  # type: ignore[no-untyped-def]
     return largest
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", inline="always", **NO_REFCOUNT)
 def evaluate(q, robot, w):  # type: ignore[no-untyped-def]
     """The errors, Jacobian and residuals at ``q`` into ``w``; returns the weighted error norm."""
     joints_forward(q, robot.joints, robot.rot_ws, robot.pos_ws)
     return math.sqrt(errors_and_jacobian(robot, w))
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def refine(q, robot, settings, w, deadline):  # type: ignore[no-untyped-def]
     """Refine ``q`` (m,) in place towards the goal in ``w.goal``; returns (error norm, steps, success).
 
