@@ -38,6 +38,7 @@ __all__ = [
     "DEFAULT_ANGLE_TOL",
     "DEFAULT_BACKTRACKS",
     "DEFAULT_DAMPING",
+    "DEFAULT_ERROR_DAMPING",
     "DEFAULT_MAX_ITERATIONS",
     "DEFAULT_SEARCH_TIMEOUT",
     "DEFAULT_TOL",
@@ -51,7 +52,8 @@ __all__ = [
 
 DEFAULT_TOL = 1e-4  # [m]
 DEFAULT_ANGLE_TOL = 1e-4  # [rad]
-DEFAULT_DAMPING = 1e-3  # [m]
+DEFAULT_DAMPING = 1e-5  # [m], the least damping
+DEFAULT_ERROR_DAMPING = 0.1  # lambda^2 = damping^2 + 0.1 ||e||^2 (docs/IK.md: measured best of 0.03-10)
 DEFAULT_MAX_ITERATIONS = 100
 DEFAULT_BACKTRACKS = 10  # halvings of a step that does not reduce the error
 DEFAULT_SEARCH_TIMEOUT = 5e-3  # [s] per target, when several or the closest solutions are asked
@@ -179,6 +181,7 @@ def solve(
     angle_tol: float = DEFAULT_ANGLE_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     damping: float = DEFAULT_DAMPING,
+    error_damping: float = DEFAULT_ERROR_DAMPING,
     backtracks: int = DEFAULT_BACKTRACKS,
     timeout: float | None = None,
     max_restarts: int | None = None,
@@ -204,7 +207,9 @@ def solve(
         angle_tol: ... and every orientation and pointing component within ``angle_tol`` [rad]
             (the angle between the reached and the target rotation or direction).
         max_iterations: the most damped least-squares steps from one seed (0: evaluate the seeds).
-        damping: lambda [m]: the step is J^T (J J^T + lambda^2 I)^-1 e.
+        damping: the least lambda [m]: the step is J^T (J J^T + lambda^2 I)^-1 e, ...
+        error_damping: ... with lambda^2 = damping^2 + error_damping ||e||^2 (Levenberg-Marquardt
+            damping that vanishes at the goal; 0: a fixed lambda).
         backtracks: the most halvings of a step that does not reduce the error; when none
             does, the attempt stops at that local minimum (0: full steps, always taken).
         timeout: seconds per target: until then, restart from random postures within the limits
@@ -245,6 +250,7 @@ def solve(
             "max_iterations", max_iterations, minimum=0, maximum=MAX_ITERATIONS
         ),
         backtracks=check.positive_int("backtracks", backtracks, minimum=0, maximum=MAX_BACKTRACKS),
+        error_damping=check.nonnegative_float("error_damping", error_damping),
         timeout=time_limit,
         max_restarts=restarts,
         solutions=k,

@@ -5,6 +5,13 @@ One iteration at posture q with weighted geometric error e (n_e,) and its Jacobi
 
     dq = J^T (J J^T + lambda^2 I)^-1 e   (n_e <= m)   or   (J^T J + lambda^2 I)^-1 J^T e   (n_e > m)
     q <- clip(q + dq, lower, upper)                    (full step, within the joint limits)
+    lambda^2 = damping^2 + error_damping ||e||^2       (Levenberg-Marquardt damping, Sugihara 2011)
+
+The damping that shrinks with the error is strong far from the goal (steps no longer than the
+linearisation deserves) and vanishes near it (Newton steps, quadratic convergence even close to a
+singular posture, where a fixed 1e-3 m crawled). Measured on 3000 FK-sampled targets (restarts
+up to 300, docs/IK.md): SO-101 pointing 30 failures and 9.7 restarts per target with a fixed
+lambda = 1e-3 m, none and 1.6 with 1e-5 m + 0.1 ||e||^2; Panda pose 1.65 -> 0.58 restarts.
 
 A step that does not reduce the error is halved, at most ``backtracks`` times; when no part
 of it does, the posture is a local minimum of the error within the limits (or the target is
@@ -12,7 +19,7 @@ out of reach) and the attempt stops there, so the error never grows. ``backtrack
 steps, always taken. Joints sitting at a limit whose step points out of the range are frozen
 for that iteration (their columns removed and dq recomputed once), so the other joints take
 over. An attempt stops on success (every component within its tolerance), after
-``max_iterations`` steps, when the step vanishes, when the error stops changing, or at the
+``max_iterations`` steps, when the step vanishes, when the error stops changing (by 1e-4 of itself), or at the
 deadline. Nothing is allocated per iteration.
 
 The kernels here, in :mod:`~gb_pin.ik.geometry` and :mod:`~gb_pin.ik.search` allocate nothing
@@ -38,6 +45,8 @@ __all__ = ["IKRobot", "IKSettings", "Work", "dls_step", "evaluate", "refine", "w
 
 STALLED = 1e-14  # a step below this [rad or m] in every joint changes nothing: stop
 STAGNANT = 1e-12  # an error changing by less than this [m] in one step has converged (unreachable)
+PROGRESS = 1e-4  # ... or by less than this fraction of itself: crawling (measured: an unreachable TALOS
+# target then stops after 10 steps instead of 100, and no FK-sampled target of docs/IK.md is lost)
 
 
 class IKSettings(NamedTuple):
@@ -46,7 +55,8 @@ class IKSettings(NamedTuple):
     Attributes:
         tol: success when every position residual is <= tol [m].
         angle_tol: ... and every orientation or pointing residual <= angle_tol [rad].
-        damping: lambda of the damped least squares [m]; lambda^2 is added to J J^T.
+        damping: the least damping lambda [m] of the damped least squares.
+        error_damping: lambda^2 = damping^2 + error_damping ||e||^2 is added to J J^T (unitless).
         max_iterations: the most steps of one attempt (from one seed).
         backtracks: the most halvings of a step that does not reduce the error.
         timeout: seconds per target (inf: none), restarts included.
@@ -63,6 +73,7 @@ class IKSettings(NamedTuple):
     damping: float
     max_iterations: int
     backtracks: int
+    error_damping: float
     timeout: float
     max_restarts: int
     solutions: int
@@ -232,11 +243,17 @@ def refine(q, robot, settings, w, deadline):  # type: ignore[no-untyped-def]
     while True:
         if within(robot, w.residuals, settings.tol, settings.angle_tol):
             return cost, steps, True
-        if steps >= settings.max_iterations or not math.isfinite(cost) or abs(previous - cost) < STAGNANT:
+        if (
+            steps >= settings.max_iterations
+            or not math.isfinite(cost)
+            or abs(previous - cost) < STAGNANT + PROGRESS * cost
+        ):
             return cost, steps, False
         if timed and now(settings.clock, w.clock_buf) >= deadline:
             return cost, steps, False
-        if dls_step(q, robot, lam2, w) < STALLED:
+        # Levenberg-Marquardt damping that shrinks with the error (Sugihara 2011): strong far from
+        # the goal, where the linearisation is poor, vanishing at it, where Newton steps converge fast
+        if dls_step(q, robot, lam2 + settings.error_damping * cost * cost, w) < STALLED:
             return cost, steps, False
         previous = cost
         for c in range(m):
