@@ -328,3 +328,43 @@ def test_results_too_large_for_memory_are_refused_before_allocating() -> None:
         solve_path("planar5", [0.5, 0.0], [0.6, 0.1], steps=10**9, seed="home")
     with pytest.raises(InvalidArgumentError, match="solve_path takes no solutions"):
         solve_path("planar5", [0.5, 0.0], [0.6, 0.1], seed="home", solutions=2)
+
+
+def test_a_cpu_clock_budget_and_a_bad_clock(pose) -> None:  # type: ignore[no-untyped-def]
+    """clock="cpu" keeps the budget on the thread's CPU time; an unknown clock is refused by name."""
+    x = pose.forward(pose.home)
+    x[:3] = [5.0, 0.0, 0.0]
+    sol = solve(pose, x, seed="home", timeout=2e-3, clock="cpu")
+    assert not sol.success[0] and sol.restarts[0] > 0 and sol.seconds[0] >= 2e-3
+    with pytest.raises(InvalidArgumentError, match="clock must be one of wall, cpu"):
+        solve(pose, x, seed="home", timeout=2e-3, clock="tsc")
+
+
+def test_the_protocol_command_prints_its_table(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`gb-pin bench --ik --protocol trac-ik`: every gb_pin row (TRAC-IK's too when pytracik is there)."""
+    from gb_pin.cli import main
+    from gb_pin.experiments import ik_tracik
+    from gb_pin.experiments.ik_protocol import BEGIN, END
+
+    doc = tmp_path / "IK.md"
+    doc.write_text(f"{BEGIN.format('ur5', 'pose')}\nold\n{END.format('ur5', 'pose')}\n")
+    argv = ["bench", "--ik", "--protocol", "trac-ik", "--robot", "ur5", "--samples", "60", "--paths", "2"]
+    assert main([*argv, "--movements", "20", "--doc", str(doc)]) == 0
+    out = capsys.readouterr().out
+    assert out.count("| gb_pin |") == 6 and ("| TRAC-IK |" in out) == ik_tracik.available()
+    assert "solutions=4" in out and "Paths (2 Cartesian" in out and "old" not in doc.read_text()
+    assert main(["bench", "--ik", "--protocol", "trac-ik", "--robot", "ur6"]) == 2
+    assert "panda, ur5, kinova" in capsys.readouterr().err
+
+
+def test_tracik_quaternions_are_pinocchios() -> None:
+    """The (x, y, z, w) handed to TRAC-IK is the rotation's quaternion, every branch of Shepperd's method."""
+    from gb_pin.experiments.ik_tracik import _quaternion
+
+    rng = np.random.default_rng(8)
+    for R in [pin.exp3(v) for v in rng.normal(size=(20, 3)) * 1.5] + [
+        np.diag([1.0, -1, -1]),
+        np.diag([-1.0, 1, -1]),
+    ]:
+        q = pin.Quaternion(np.array(_quaternion(R)))  # pinocchio takes (x, y, z, w) from a vector
+        np.testing.assert_allclose(q.toRotationMatrix(), R, atol=1e-12)

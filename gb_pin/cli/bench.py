@@ -46,6 +46,10 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     p.add_argument("--timeout", type=float, default=5e-3, help="seconds per target (default 0.005)")
     p.add_argument("--paths", type=int, default=100, help="Cartesian paths (default 100; 0: none)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the postures (default 0)")
+    p.add_argument(
+        "--clock", choices=("cpu", "wall"), default="cpu",
+        help="time queries (and gb_pin's budget) by the thread's CPU time (default) or wall time",
+    )  # fmt: skip
     s.set_defaults(func=run)
 
 
@@ -105,7 +109,7 @@ def _protocol(args: argparse.Namespace) -> int:
     checks.outputs(args, doc="--doc")
     report = run_protocol(
         args.robot, args.task, args.samples, timeout=args.timeout, movements=movements, paths=args.paths,
-        seed=args.seed, progress=lambda line: print(line, file=sys.stderr),
+        seed=args.seed, clock=args.clock, progress=lambda line: print(line, file=sys.stderr),
     )  # fmt: skip
     text = format_report(report)
     print(text)

@@ -9,6 +9,8 @@ solution. Measured: whether every point was solved and the largest joint step be
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -28,9 +30,13 @@ def sample_postures(target: KinematicTarget, count: int, rng: np.random.Generato
     return rng.uniform(lo, hi, (count, target.n_joints))
 
 
-def cartesian_paths(target: KinematicTarget, tracik: ik_tracik.TracIK | None, settings: dict[str, float],
-                    count: int,
-           rng: np.random.Generator) -> dict[str, tuple[float, float, float]]:  # fmt: skip
+def cartesian_paths(
+    target: KinematicTarget,
+    tracik: ik_tracik.TracIK | None,
+    settings: dict[str, Any],
+    count: int,
+    rng: np.random.Generator,
+) -> dict[str, tuple[float, float, float]]:
     """``count`` Cartesian paths of 50 points; per solver (all points solved, median and max largest step)."""
     comps = target.chain.components
     rot = (
@@ -43,7 +49,7 @@ def cartesian_paths(target: KinematicTarget, tracik: ik_tracik.TracIK | None, se
         qa = sample_postures(target, 1, rng)[0]
         qb = np.clip(qa + rng.uniform(-0.5, 0.5, qa.shape), target.lower, target.upper)
         X = _line(target, target.forward(qa), target.forward(qb), rot, 50)
-        sol = solve(target, X, seed=qa, follow=True, **settings)  # type: ignore[arg-type]
+        sol = solve(target, X, seed=qa, follow=True, **settings)
         out["gb_pin"].append((bool(sol.success.all()), _largest_step(sol.postures)))
         if tracik is not None and rot is not None:
             poses = [_pose(target, x, rot) for x in X]

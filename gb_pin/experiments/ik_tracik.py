@@ -56,8 +56,9 @@ class TracIK:
         tip: the chain's tip link.
         lower: (m,) lower limits [rad] (finite).
         upper: (m,) upper limits [rad] (finite).
-        timeout: seconds per solve.
+        timeout: seconds per solve (TRAC-IK's own budget: wall-clock time).
         eps: tolerance of the Cartesian error (m and rad).
+        cpu: time each solve by the thread's CPU time (as gb_pin's ``clock="cpu"``), not wall time.
 
     Raises:
         GbPinError: pytracik missing, or a chain of another length than the limits.
@@ -72,6 +73,7 @@ class TracIK:
         upper: NDArray[np.float64],
         timeout: float,
         eps: float,
+        cpu: bool = False,
     ) -> None:
         try:
             import pytracik  # type: ignore[import-not-found, import-untyped, unused-ignore]
@@ -80,6 +82,7 @@ class TracIK:
         with open(urdf, encoding="utf-8") as f:
             text = f.read()
         self._lib: Any = pytracik
+        self._clock = time.thread_time if cpu else time.perf_counter
         self._solver = pytracik.TRAC_IK(base, tip, text, float(timeout), float(eps), pytracik.SolveType.Speed)
         if pytracik.get_num_joints(self._solver) != len(lower):
             raise GbPinError(
@@ -103,9 +106,9 @@ class TracIK:
         for r in range(N):
             p, R = self.forward(Q[r])
             qx, qy, qz, qw = _quaternion(R)
-            start = time.perf_counter()
+            start = self._clock()
             answer = self._lib.ik(self._solver, seed, p[0], p[1], p[2], qx, qy, qz, qw)
-            seconds[r] = time.perf_counter() - start
+            seconds[r] = self._clock() - start
             ok[r] = answer[0] >= 0
             if ok[r]:
                 out[r] = answer[1:]

@@ -8,7 +8,7 @@ target's own splitmix64 stream) until ``solutions`` distinct solutions are found
 reference posture (``closest``, or the previous point of a path) solutions are ranked by their
 distance to it, and ``closest`` searches the whole budget for the nearest. A target with no
 solution returns the best posture found (the smallest error), marked unsuccessful. The time of
-each query, seed included, is measured on the monotonic clock.
+each query, seed included, is measured on the settings' clock (wall or the thread's CPU time).
 """
 
 from __future__ import annotations

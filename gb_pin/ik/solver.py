@@ -65,7 +65,8 @@ class IKSettings(NamedTuple):
         min_distance: two solutions are distinct when a joint differs by at least this [rad] or [m].
         closest: keep the solutions closest to the reference postures, searching the whole budget.
         follow: a path: each target after the first starts from the previous target's solution.
-        clock: the clock id of :func:`~gb_pin.ik.clock.now` (-1: none).
+        clock: the clock id of :func:`~gb_pin.ik.clock.now` (-1: none), read at each query's start and
+            end, after each attempt and every 8 steps of an attempt.
     """
 
     tol: float
@@ -249,7 +250,7 @@ def refine(q, robot, settings, w, deadline):  # type: ignore[no-untyped-def]
             or abs(previous - cost) < STAGNANT + PROGRESS * cost
         ):
             return cost, steps, False
-        if timed and now(settings.clock, w.clock_buf) >= deadline:
+        if timed and steps % 8 == 0 and now(settings.clock, w.clock_buf) >= deadline:  # a read every 8 steps
             return cost, steps, False
         # Levenberg-Marquardt damping that shrinks with the error (Sugihara 2011): strong far from
         # the goal, where the linearisation is poor, vanishing at it, where Newton steps converge fast
