@@ -368,3 +368,18 @@ def test_tracik_quaternions_are_pinocchios() -> None:
     ]:
         q = pin.Quaternion(np.array(_quaternion(R)))  # pinocchio takes (x, y, z, w) from a vector
         np.testing.assert_allclose(q.toRotationMatrix(), R, atol=1e-12)
+
+
+def test_periodic_joints_turn_by_whole_turns_towards_the_reference() -> None:
+    """UR5 (joints +/- 2 pi): the solution nearest a reference is the same pose turned by 2 pi."""
+    ur5 = gb_pin.load_robot("ur5")
+    q0 = ur5.home.copy()
+    q0[0] = -2.5
+    ref = q0.copy()
+    ref[0] += 2 * np.pi
+    sol = solve(ur5, ur5.forward(q0), seed=q0, closest_to=ref, max_restarts=1, tol=TOL)
+    assert sol.success[0] and sol.postures[0, 0] == pytest.approx(ref[0], abs=1e-9)
+    np.testing.assert_allclose(ur5.forward(sol.postures[0]), ur5.forward(q0), atol=1e-12)
+    periodic = ik_robot(ur5, ur5.chain).periodic  # every joint but the elbow (+/- pi) spans +/- 2 pi
+    np.testing.assert_array_equal(periodic[[0, 1, 3, 4, 5]], 1.0)
+    assert ik_robot(gb_pin.load_robot("panda"), gb_pin.load_robot("panda").chain).periodic.sum() == 0

@@ -58,7 +58,8 @@ class TracIK:
         upper: (m,) upper limits [rad] (finite).
         timeout: seconds per solve (TRAC-IK's own budget: wall-clock time).
         eps: tolerance of the Cartesian error (m and rad).
-        cpu: time each solve by the thread's CPU time (as gb_pin's ``clock="cpu"``), not wall time.
+        cpu: time each solve by the CPU time it used (both of its threads; gb_pin's ``clock="cpu"``
+            is one thread's), not wall time.
 
     Raises:
         GbPinError: pytracik missing, or a chain of another length than the limits.
@@ -82,7 +83,8 @@ class TracIK:
         with open(urdf, encoding="utf-8") as f:
             text = f.read()
         self._lib: Any = pytracik
-        self._clock = time.thread_time if cpu else time.perf_counter
+        # TRAC-IK solves in two threads (KDL and NLopt, in parallel): its CPU time is the process's
+        self._clock = time.process_time if cpu else time.perf_counter
         self._solver = pytracik.TRAC_IK(base, tip, text, float(timeout), float(eps), pytracik.SolveType.Speed)
         if pytracik.get_num_joints(self._solver) != len(lower):
             raise GbPinError(

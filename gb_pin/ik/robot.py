@@ -16,6 +16,7 @@ from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.ik.solver import IKRobot
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.body.components import POSITION, TaskComponents
+from gb_pin.learn.body.joints import REVOLUTE
 from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.body.task import STACKED, StackedTaskArrays
 
@@ -85,7 +86,12 @@ def ik_robot(robot: Kinematics, chain: KinematicChain) -> IKRobot:
     sample_lower = np.where(np.isfinite(lower), lower, home - np.pi)
     sample_upper = np.where(np.isfinite(upper), upper, home + np.pi)
     m = chain.n_joints
+    revolute = np.zeros(m, dtype=bool)
+    revolute[chain.q_index[chain.kinds == REVOLUTE]] = True
+    prismatic = np.zeros(m, dtype=bool)
+    prismatic[chain.q_index[chain.kinds != REVOLUTE]] = True  # an entry driving both is not periodic
+    periodic = (revolute & ~prismatic & ~(upper - lower <= 2 * np.pi)).astype(np.float64)
     return IKRobot(
         chain.joints, arrays, weights, np.empty((m, 3, 3)), np.empty((m, 3)), lower, upper,
-        np.ascontiguousarray(sample_lower), np.ascontiguousarray(sample_upper),
+        np.ascontiguousarray(sample_lower), np.ascontiguousarray(sample_upper), periodic,
     )  # fmt: skip

@@ -171,6 +171,24 @@ def _copy(src, dst):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
+def _turn_towards(q, ref, robot):  # type: ignore[no-untyped-def]
+    """Turn each periodic joint of solution ``q`` by whole turns towards ``ref``, within the limits.
+
+    The same pose (a revolute joint turned by 2 pi), nearer the reference: a path through a UR5's
+    +/- 2 pi joints or a Kinova's continuous ones need not jump by a turn.
+    """
+    lower, upper, periodic = robot.lower, robot.upper, robot.periodic
+    turn = 2.0 * math.pi
+    for i in range(q.shape[0]):
+        if periodic[i] == 0.0:
+            continue
+        while q[i] - ref[i] > math.pi and q[i] - turn >= lower[i]:
+            q[i] -= turn
+        while ref[i] - q[i] > math.pi and q[i] + turn <= upper[i]:
+            q[i] += turn
+
+
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def _distance(a, b):  # type: ignore[no-untyped-def]
     s = 0.0
     for i in range(a.shape[0]):
@@ -257,6 +275,8 @@ def solve_batch(X, robot, settings, seeds, out, scratch):  # type: ignore[no-unt
             cost, taken, success = refine(q, robot, settings, w, deadline)
             steps += taken
             if success:
+                if ranked:
+                    _turn_towards(q, ref, robot)
                 count = _keep(q, kept, dist, count, ref, ranked, settings.min_distance)
             elif cost < best_cost or restarts == 0:
                 best_cost = cost

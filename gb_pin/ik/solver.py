@@ -97,6 +97,8 @@ class IKRobot(NamedTuple):
         upper: (m,) upper joint limits, +inf where unbounded.
         sample_lower: (m,) lower bounds of random restarts (home - pi where unbounded).
         sample_upper: (m,) upper bounds of random restarts (home + pi where unbounded).
+        periodic: (m,) 1.0 for revolute entries whose range exceeds 2 pi (a turn of 2 pi reaches the
+            same pose), else 0.0.
     """
 
     joints: Joints
@@ -108,6 +110,7 @@ class IKRobot(NamedTuple):
     upper: NDArray[np.float64]
     sample_lower: NDArray[np.float64]
     sample_upper: NDArray[np.float64]
+    periodic: NDArray[np.float64]
 
 
 class Work(NamedTuple):
