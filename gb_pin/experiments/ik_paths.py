@@ -50,7 +50,8 @@ def cartesian_paths(
         qb = np.clip(qa + rng.uniform(-0.5, 0.5, qa.shape), target.lower, target.upper)
         X = _line(target, target.forward(qa), target.forward(qb), rot, 50)
         sol = solve(target, X, seed=qa, follow=True, **settings)
-        out["gb_pin"].append((bool(sol.success.all()), _largest_step(sol.postures)))
+        solved = np.where(sol.success[:, None], sol.postures, np.nan)  # as TRAC-IK's: failed points left out
+        out["gb_pin"].append((bool(sol.success.all()), _largest_step(solved)))
         if tracik is not None and rot is not None:
             poses = [_pose(target, x, rot) for x in X]
             Q = tracik.follow(poses, qa)
@@ -63,6 +64,7 @@ def cartesian_paths(
 
 
 def _largest_step(Q: NDArray[np.float64]) -> float:
+    """The largest joint change between consecutive solved points (NaN rows: unsolved)."""
     steps = np.abs(np.diff(Q, axis=0))
     steps = steps[np.all(np.isfinite(steps), axis=1)]
     return float(steps.max()) if steps.size else 0.0
