@@ -10,7 +10,7 @@ Tolerances:
   checked again with Pinocchio (frame placement, log3), to the tolerance plus 1e-12 of rounding.
 - Success rates use a deterministic budget (``max_restarts``, no clock). Measured on the Panda's
   pose over the full limits (200 targets, max_restarts 300): 200/200 (the protocol's 10^4 give
-  99.9x %, docs/IK.md); the floor 0.99 allows two failures in 200.
+  100.00 %, docs/IK.md); the floor 0.99 allows two failures in 200.
 """
 
 from __future__ import annotations
