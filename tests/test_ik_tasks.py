@@ -383,3 +383,22 @@ def test_periodic_joints_turn_by_whole_turns_towards_the_reference() -> None:
     periodic = ik_robot(ur5, ur5.chain).periodic  # every joint but the elbow (+/- pi) spans +/- 2 pi
     np.testing.assert_array_equal(periodic[[0, 1, 3, 4, 5]], 1.0)
     assert ik_robot(gb_pin.load_robot("panda"), gb_pin.load_robot("panda").chain).periodic.sum() == 0
+
+
+def test_gb_pin_ik_solves_pose_targets_of_a_saved_run(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`gb-pin ik run.npz --targets poses.csv --angle-tol ... --timeout ...` on a 6-D task vector."""
+    from gb_pin.cli import main
+
+    result = gb_pin.babble("talos_left_arm_pose", movements=10, seed=0)
+    X = result.target.forward(in_limits(result.target, np.random.default_rng(9), 3, spread=0.3))
+    run = str(tmp_path / "run.npz")
+    result.save(run)
+    csv = tmp_path / "poses.csv"
+    csv.write_text("\n".join(",".join(repr(float(v)) for v in x) for x in X) + "\n")
+    argv = ["ik", run, "--targets", str(csv), "--tol", "1e-5", "--angle-tol", "1e-5", "--timeout", "0.005"]
+    assert main([*argv, "--seed", "home", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["solutions"]) == 3 and all(s["success"] for s in data["solutions"])
+    assert all(s["errors"][0] <= 1e-5 and s["errors"][1] <= 1e-5 for s in data["solutions"])
+    assert main(["ik", run, "0.3", "0.1"]) == 2
+    assert "expected 6 coordinates (task vector of" in capsys.readouterr().err
