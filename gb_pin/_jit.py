@@ -22,7 +22,6 @@ from numba import njit
 # The package's files that hold compiled code, relative to the package directory.
 KERNEL_FILES: tuple[str, ...] = (
     "ik/clock.py",
-    "ik/compiled.py",
     "ik/geometry.py",
     "ik/jacobian.py",
     "ik/search.py",
