@@ -156,15 +156,18 @@ class BabbleResult:
         max_iterations: int = DEFAULT_MAX_ITERATIONS,
         seed: Seed = "learned",
         damping: float = DEFAULT_DAMPING,
+        **options: Any,
     ) -> IKSolution:
         """Exact postures for targets: g(x*) refined on the robot's kinematics (docs/IK.md).
 
         Args:
-            X: (N, n) targets or one (n,) target [m].
-            tol: success when ||x* - f(q)|| <= tol [m].
-            max_iterations: the most damped least-squares steps per target.
-            seed: ``"learned"`` (g(x*)), ``"home"``, or postures (m,) / (N, m).
+            X: (N, n) targets or one (n,) target, in the task vector (positions [m], poses, ...).
+            tol: success when every position is within ``tol`` [m] (and rotations within ``angle_tol``).
+            max_iterations: the most damped least-squares steps from one seed.
+            seed: ``"learned"`` (g(x*)), ``"nearest"``, ``"home"``, ``"middle"``, or postures (m,) / (N, m).
             damping: lambda of the damped least squares [m].
+            **options: the other settings of :func:`gb_pin.ik.solve` (``angle_tol``, ``timeout``,
+                ``max_restarts``, ``solutions``, ``closest_to``, ``min_distance``, ``rng``, ...).
 
         Returns:
             An :class:`~gb_pin.ik.solution.IKSolution` (see :func:`gb_pin.ik.solve`).
@@ -177,6 +180,7 @@ class BabbleResult:
             tol=tol,
             max_iterations=max_iterations,
             damping=damping,
+            **options,
         )
 
     def solve_path(
@@ -186,20 +190,22 @@ class BabbleResult:
         steps: int = 50,
         tol: float = DEFAULT_TOL,
         seed: Seed = "learned",
+        **options: Any,
     ) -> IKPath:
-        """A joint path along the line from ``start`` to ``end``, each point seeded by g(x*) and refined.
+        """A joint path along the line from ``start`` to ``end`` (see :func:`gb_pin.ik.solve_path`).
 
         Args:
-            start: (n,) first point [m].
-            end: (n,) last point [m].
+            start: (n,) first point (task vector).
+            end: (n,) last point.
             steps: points on the line, ends included.
-            tol: success when ||x* - f(q)|| <= tol [m].
-            seed: ``"learned"``, ``"home"``, or postures (m,) / (steps, m).
+            tol: success when every position is within ``tol`` [m].
+            seed: the first point's seed: ``"learned"``, ``"home"``, or postures (m,) / (steps, m).
+            **options: ``follow`` and the settings of :func:`gb_pin.ik.solve`.
 
         Returns:
             An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
         """
-        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol)
+        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol, **options)
 
     def reach(
         self,
