@@ -19,11 +19,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from gb_pin.cli.parser import build_parser
-from gb_pin.exceptions import GbPinError
+from gb_pin.exceptions import GbPinError, GbPinWarning
 
 __all__ = ["build_parser", "main", "run"]
 
@@ -41,6 +42,7 @@ def run() -> NoReturn:
     flushed, skipping the interpreter's teardown of numba's and LLVM's objects (0.2-0.3 s of a
     one-second run on the 2-core machine). Every other command exits as usual.
     """
+    warnings.showwarning = _show_warning  # gb_pin's warnings as one line, in the program only
     code, args = _main(None)
     try:
         sys.stdout.flush()
@@ -64,5 +66,26 @@ def _main(argv: Sequence[str] | None) -> tuple[int, argparse.Namespace | None]:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0, None
     except KeyboardInterrupt as exc:
-        print(f"gb-pin: {exc or 'interrupted'}", file=sys.stderr)
+        print(f"gb-pin: {str(exc) or _interrupted(args)}", file=sys.stderr)
         return 130, None
+    except OSError as exc:  # the machine's, not the user's: a disk full or removed after every fallback
+        print(f"gb-pin: error: {exc}", file=sys.stderr)
+        return 1, args
+
+
+def _interrupted(args: argparse.Namespace) -> str:
+    """What Ctrl-C stopped, when the command had nothing more to say."""
+    if args.command == "babble" and args.checkpoint is None and args.resume is None:
+        return "interrupted (Ctrl-C); nothing was saved (--checkpoint FILE makes a run resumable)"
+    return f"interrupted (Ctrl-C) during gb-pin {args.command}"
+
+
+def _show_warning(message: Warning | str, category: type[Warning], *args: Any, **kwargs: Any) -> None:
+    """gb_pin's warnings as one line on stderr (``gb-pin: warning: ...``); others as Python shows them."""
+    if issubclass(category, GbPinWarning):
+        print(f"gb-pin: warning: {message}", file=sys.stderr)
+    else:
+        _SHOW(message, category, *args, **kwargs)
+
+
+_SHOW = warnings.showwarning

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from typing import TYPE_CHECKING
 
@@ -47,50 +46,21 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     s.set_defaults(func=run)
 
 
-def _number(text: str, where: str) -> float:
-    from gb_pin.exceptions import InvalidArgumentError
-
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise InvalidArgumentError(f"{where}: {text.strip()!r} is not a finite number")
-    return value
-
-
 def read_targets_csv(path: str, axes: str) -> list[list[float]]:
     """The targets of a CSV file: one per line, ``len(axes)`` comma-separated numbers [m].
 
-    Raises:
-        InvalidArgumentError: the file cannot be read, or a line is malformed.
-    """
-    from gb_pin.exceptions import InvalidArgumentError
+    Read in bounds by the point-file reader of babble's ``--targets`` (:func:`gb_pin._points.read_points`).
 
-    try:
-        with open(path, encoding="utf-8") as f:
-            lines = f.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidArgumentError(f"--targets: cannot read {path!r} ({exc})") from exc
-    rows: list[list[float]] = []
-    for number, line in enumerate(lines, start=1):
-        fields = [f.strip() for f in line.split(",")]
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        if not rows and [f.lower() for f in fields] == list(axes):
-            continue  # a header naming the axes
-        if len(fields) != len(axes):
-            raise InvalidArgumentError(
-                f"{path}:{number}: expected {len(axes)} comma-separated coordinates (axes {axes!r}), "
-                f"got {line.strip()!r}"
-            )
-        rows.append([_number(f, f"{path}:{number}") for f in fields])
-    if not rows:
-        raise InvalidArgumentError(f"{path}: no targets (one per line, {len(axes)} coordinates)")
-    return rows
+    Raises:
+        InvalidArgumentError: the file cannot be read, is too large, or a line is malformed.
+    """
+    from gb_pin._points import read_points
+
+    return read_points(path, "--targets", axes=axes).tolist()
 
 
 def _targets(args: argparse.Namespace, axes: str, name: str) -> list[list[float]]:
+    from gb_pin._points import finite_number
     from gb_pin.exceptions import InvalidArgumentError
 
     if args.targets is not None and args.coordinates:
@@ -102,7 +72,7 @@ def _targets(args: argparse.Namespace, axes: str, name: str) -> list[list[float]
             f"expected {len(axes)} coordinates (axes {axes!r} of {name}), got {len(args.coordinates)}: "
             f"{' '.join(args.coordinates) or 'none'} (or give --targets FILE)"
         )
-    return [[_number(c, "coordinate") for c in args.coordinates]]
+    return [[finite_number(c, "coordinate") for c in args.coordinates]]
 
 
 def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) -> str:

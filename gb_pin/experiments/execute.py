@@ -9,7 +9,9 @@ worker builds its robot from the name.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import threading
 import time
 from collections.abc import Sequence
@@ -22,7 +24,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.experiments.conditions import Condition, Sweep, check_parameters, conditions_grid
+from gb_pin.experiments.conditions import (
+    MAX_CONDITIONS,
+    Condition,
+    Sweep,
+    check_parameters,
+    conditions_grid,
+)
 from gb_pin.experiments.journal import TrialJournal, TrialOutput, TrialTask
 from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
@@ -47,6 +55,11 @@ def run_trial_batch(tasks: list[TrialTask]) -> list[TrialOutput]:
     """Several trials in one Dask task (short trials batched): each is :func:`run_one_trial`."""
     return [run_one_trial(*task) for task in tasks]
 
+
+MAX_TRIALS = 10**5
+"""The most trials of one call (all conditions together): 10^5 trials of 0.1 s are 3 hours of one core;
+a larger study is several calls (each with its journal)."""
+WORKERS_PER_CORE = 4
 
 # Dask costs about 1 ms per task: trials are batched so that a task runs about 0.1 s.
 # A trial's cost is movements * (joints + 5) (_plan); planar20 at the default path length runs
@@ -179,16 +192,68 @@ def _execute(
             for i in order:
                 done(i, run_one_trial(*tasks[i]))
         else:
-            with ProcessPoolExecutor(
-                max_workers=min(workers or 1, len(todo)), initializer=watch_parent, initargs=(os.getpid(),)
-            ) as pool:
-                futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
-                for fut in as_completed(futures):
-                    done(futures[fut], fut.result())
+            _run_pool(tasks, order, min(workers or 1, len(todo)), done)
+    except KeyboardInterrupt as exc:
+        raise KeyboardInterrupt(_interrupted(results, journal, str(exc))) from None
     finally:
         if bar is not None:
             bar.close()
     return [r for r in results if r is not None]
+
+
+def _run_pool(tasks: list[TrialTask], order: list[int], workers: int, done: Any) -> None:
+    """Run the tasks in a local process pool, passing each output to ``done`` as it comes.
+
+    On Ctrl-C the trials finished meanwhile are passed to ``done`` too, the pending ones cancelled
+    and the workers stopped at once; then KeyboardInterrupt goes on.
+    """
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
+    futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
+    passed: set[int] = set()
+    try:
+        for fut in as_completed(futures):
+            passed.add(futures[fut])
+            done(futures[fut], fut.result())
+    except KeyboardInterrupt:
+        for fut, i in futures.items():
+            if i not in passed and fut.done() and not fut.cancelled() and fut.exception() is None:
+                done(i, fut.result())  # finished while we were interrupted: journal it too
+        _stop(pool)
+        raise
+    except BaseException:
+        _stop(pool)
+        raise
+    pool.shutdown()
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Cancel the pool's pending tasks and end its workers now, not after their running trials."""
+    processes = list(getattr(pool, "_processes", None) or {})  # pid -> Process (shutdown clears it)
+    pool.shutdown(wait=False, cancel_futures=True)
+    for pid in processes:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGKILL)  # a worker keeps no state: its trial is recomputed next time
+
+
+def _interrupted(results: list[TrialOutput | None], journal: TrialJournal | None, reason: str) -> str:
+    """The one line that says how far the trials got when Ctrl-C stopped them."""
+    finished, total = sum(r is not None for r in results), len(results)
+    head = reason if reason and not reason.isdigit() else "interrupted"
+    if journal is not None and journal.writing is not None:
+        return (
+            f"{head}: {finished} of {total} trials finished, journaled in {journal.writing}; "
+            "run the same command again to compute only the others"
+        )
+    return f"{head}: {finished} of {total} trials finished (a journal, --checkpoint FILE, keeps them)"
+
+
+def _start_worker(parent: int) -> None:
+    """Start a pool worker: Ctrl-C is its parent's to handle, and it exits when its parent is gone.
+
+    (Without this every worker would print a KeyboardInterrupt traceback; :func:`watch_parent`.)
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    watch_parent(parent)
 
 
 PARENT_POLL = 0.5  # [s] between a worker's checks that the process that started it is alive
@@ -237,7 +302,16 @@ def _check_executor(workers: int | None, scheduler: Any) -> int | None:
         return None
     if workers is None:
         workers = os.cpu_count() or 1
-    return check.positive_int("workers", workers)
+    return check.positive_int("workers", workers, maximum=max_workers())
+
+
+def max_workers() -> int:
+    """The most local worker processes a run may start: :data:`WORKERS_PER_CORE` per core, at least 16.
+
+    Each worker loads numpy, numba and the kernels (about 0.1-0.2 GB): many more than the cores
+    only exhaust the memory.
+    """
+    return max(16, WORKERS_PER_CORE * (os.cpu_count() or 1))
 
 
 def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSet:
@@ -306,7 +380,17 @@ def run_sweep(
     conditions = list(conditions)
     if not conditions:
         raise InvalidArgumentError("a sweep needs at least one condition, got none")
-    trials = check.positive_int("trials", trials)
+    if len(conditions) > MAX_CONDITIONS:
+        raise InvalidArgumentError(
+            f"{len(conditions)} conditions; a sweep has at most {MAX_CONDITIONS} "
+            "(gb_pin.experiments.conditions.MAX_CONDITIONS): split it into several sweeps"
+        )
+    trials = check.positive_int("trials", trials, maximum=MAX_TRIALS)
+    if trials * len(conditions) > MAX_TRIALS:
+        raise InvalidArgumentError(
+            f"{trials} trials x {len(conditions)} conditions = {trials * len(conditions)} trials; a sweep "
+            f"runs at most {MAX_TRIALS} (gb_pin.experiments.execute.MAX_TRIALS): split it into several"
+        )
     movements = check.positive_int("movements", movements)
     seed = check.positive_int("seed", seed, minimum=0)
     workers = _check_executor(workers, scheduler)

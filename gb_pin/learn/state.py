@@ -151,7 +151,7 @@ class BabbleState:
                 "body changes need robots with a compiled chain (not a Python forward model)"
             )
         for at, robot in sorted(dict(changes).items()):
-            at = check.positive_int("changes movement", at)
+            at = check.movements("changes movement", at, minimum=1)
             chain = getattr(robot, "chain", robot)
             if not isinstance(chain, KinematicChain):
                 raise InvalidArgumentError(

@@ -86,7 +86,8 @@ class KinematicTarget(PinocchioModels):
             and :class:`~gb_pin.robot.task_spec.Pointing` specs of one or several frames.
         orientation_scale: s [m/rad] of the rotational rows of ``"pose"`` and ``"pointing"``
             (default 0.2).
-        pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector).
+        pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector;
+            default ``"z"``); refused with another task, which would ignore it.
 
     Raises:
         UnknownRobotError: unknown frame or joint name.
@@ -107,7 +108,7 @@ class KinematicTarget(PinocchioModels):
         name: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
     ) -> None:
         import pinocchio as pin
 
@@ -219,7 +220,7 @@ class KinematicTarget(PinocchioModels):
         name: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
     ) -> KinematicTarget:
         """A target from a URDF file (kinematics only: no mesh is loaded).
 
@@ -276,7 +277,7 @@ class KinematicTarget(PinocchioModels):
         label: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
     ) -> KinematicTarget:
         """A target from a robot of the example-robot-data package (e.g. ``"talos"``, ``"panda"``).
 
