@@ -81,7 +81,9 @@ def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) ->
 
 
 def _as_text(sol: IKSolution, joints: tuple[str, ...]) -> str:
-    lines = ["joints: " + " ".join(joints)]
+    from gb_pin._names import listing
+
+    lines = ["joints: " + listing(joints, " ")]  # names from a URDF: printable
     for r in range(len(sol)):
         target = " ".join(f"{v:.4f}" for v in sol.targets[r])
         posture = " ".join(f"{v:+.4f}" for v in sol.postures[r])

@@ -23,6 +23,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from gb_pin._names import closest
+from gb_pin._reading import read_bytes
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
 
 _SHARE = ("share", "example-robot-data", "robots")
@@ -264,20 +265,14 @@ MAX_URDF_ELEMENTS = 1000
 recurses along the tree and crashes the interpreter on chains of a few thousand links)."""
 
 
-def check_urdf_size(urdf: Path) -> None:
-    """Refuse a URDF file too big for pinocchio's parser, before the parser sees it.
+def check_urdf_size(urdf: Path) -> bytes:
+    """Read a URDF file in bounds, refusing one too big for pinocchio's parser; return its bytes.
 
     Raises:
-        InvalidArgumentError: over :data:`MAX_URDF_BYTES` bytes, or over :data:`MAX_URDF_ELEMENTS`
-            links or joints.
+        InvalidArgumentError: missing, not a regular file, over :data:`MAX_URDF_BYTES` bytes, or
+            over :data:`MAX_URDF_ELEMENTS` links or joints.
     """
-    size = urdf.stat().st_size
-    if size > MAX_URDF_BYTES:
-        raise InvalidArgumentError(
-            f"URDF file {str(urdf)!r} has {size} bytes; gb_pin reads at most {MAX_URDF_BYTES} "
-            "(gb_pin.robot.models.MAX_URDF_BYTES)"
-        )
-    text = urdf.read_bytes()
+    text = read_bytes(urdf, f"URDF file {str(urdf)!r}", "URDF file", MAX_URDF_BYTES, InvalidArgumentError)
     for tag in (b"link", b"joint"):
         count = len(re.findall(rb"<\s*" + tag + rb"[\s/>]", text))
         if count > MAX_URDF_ELEMENTS:
@@ -285,6 +280,7 @@ def check_urdf_size(urdf: Path) -> None:
                 f"URDF file {str(urdf)!r} has {count} <{tag.decode()}> elements; gb_pin reads at most "
                 f"{MAX_URDF_ELEMENTS} (gb_pin.robot.models.MAX_URDF_ELEMENTS)"
             )
+    return text
 
 
 def load_urdf_model(
@@ -295,6 +291,9 @@ def load_urdf_model(
 ) -> pin.Model:
     """Build the kinematic model of a URDF file (no geometry), with the SRDF's reference configurations.
 
+    The files are read once, in bounds (regular files only, :func:`check_urdf_size`), and
+    pinocchio parses the text read (the same model as from the path, tested).
+
     Args:
         path: the URDF file.
         srdf: an SRDF file whose ``group_state`` entries become the model's
@@ -302,30 +301,45 @@ def load_urdf_model(
         floating_base: add a free-flyer root joint (for mobile robots).
 
     Raises:
-        InvalidArgumentError: missing, malformed or too large (:func:`check_urdf_size`) URDF or SRDF.
+        InvalidArgumentError: missing, malformed, not a regular file or too large
+            (:func:`check_urdf_size`) URDF or SRDF.
     """
     urdf = Path(os.fspath(path))
-    if not urdf.is_file():
+    if not urdf.exists():
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} does not exist")
-    check_urdf_size(urdf)
+    text = _xml_text(check_urdf_size(urdf))
     try:
-        if floating_base:
-            model = pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer())
+        root = [pin.JointModelFreeFlyer()] if floating_base else []
+        if text is None:  # not UTF-8: pinocchio reads the file itself (after the checks above)
+            model = pin.buildModelFromUrdf(str(urdf), *root)
         else:
-            model = pin.buildModelFromUrdf(str(urdf))
+            model = pin.buildModelFromXML(text, *root)
     except (ValueError, RuntimeError, IndexError) as exc:
-        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {exc}") from exc
+        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {str(exc)[:300]}") from exc
     if model.njoints <= 1:
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} describes no joint: nothing to move")
     if srdf is not None:
         srdf_path = Path(os.fspath(srdf))
-        if not srdf_path.is_file():
+        if not srdf_path.exists():
             raise InvalidArgumentError(f"SRDF file {str(srdf_path)!r} does not exist")
+        label = f"SRDF file {str(srdf_path)!r}"
+        xml = _xml_text(read_bytes(srdf_path, label, "SRDF file", MAX_URDF_BYTES, InvalidArgumentError))
         try:
-            pin.loadReferenceConfigurations(model, str(srdf_path), False)
+            if xml is None:  # not UTF-8: pinocchio reads the file itself (after the checks above)
+                pin.loadReferenceConfigurations(model, str(srdf_path), False)
+            else:
+                pin.loadReferenceConfigurationsFromXML(model, xml, False)
         except (ValueError, RuntimeError, IndexError) as exc:
-            raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {exc}") from exc
+            raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
     return model
+
+
+def _xml_text(data: bytes) -> str | None:
+    """An XML file's bytes as text, or None if they are not UTF-8 (then pinocchio reads the file)."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
 
 
 def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:

@@ -84,7 +84,9 @@ def history(
     if movements.dtype.kind not in "iu" or movements.ndim != 1:
         raise _fail(path, "movements", f"{movements.dtype} array of shape {movements.shape}", "1-d integers")
     moves = movements.astype(np.int64)
-    if moves.size and (moves[0] < 0 or np.any(np.diff(moves) <= 0)):
+    if not moves.size:
+        raise ResultFileError(f"{path}: the history is empty (a run records E^X at least once)")
+    if moves[0] < 0 or np.any(np.diff(moves) <= 0):
         raise ResultFileError(f"{path}: the history's movements must be increasing integers >= 0")
     out = []
     for name in ("error", "home_distance"):

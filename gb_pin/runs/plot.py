@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import atomic_write
+from gb_pin._names import printable
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -129,16 +130,20 @@ def plot_result(result: BabbleResult, path: str | os.PathLike[str] | None = None
     x = h.movements[keep]
     fig, err_ax, home_ax = _axes(ax)
     twin = ax is not None
-    e0 = float(h.error[0])
+    e0 = h.initial_error  # NaN if movement 0 was not recorded; 0 if home reaches every target
     err_ax.plot(x, h.error[keep], color=ERROR_COLOR, lw=2.0, label="$E^X$")
-    err_ax.axhline(e0, color="0.4", lw=0.8, ls="--", label=f"$E_0$ = {e0:.3g} m")
-    err_ax.axhline(0.1 * e0, color="0.4", lw=0.8, ls=":", label="0.1 $E_0$")
+    if e0 > 0:  # on a log axis, E_0 = 0 has no place (and no ratio)
+        err_ax.axhline(e0, color="0.4", lw=0.8, ls="--", label=f"$E_0$ = {e0:.3g} m")
+        err_ax.axhline(0.1 * e0, color="0.4", lw=0.8, ls=":", label="0.1 $E_0$")
+        share = f"{result.error / e0:.1%} of $E_0$"
+    else:
+        share = "$E_0$ = 0" if e0 == 0 else "$E_0$ not recorded"
     home_ax.plot(x, h.home_distance[keep], color=HOME_COLOR, lw=2.0, label="$D^{home}$")
     _style(err_ax, home_ax, twin)
-    name = result.robot or result.target.name
+    name = printable(result.robot or result.target.name, 80)
     title = (
         f"{name}: {result.movements} movements, final $E^X$ = {result.error:.4g} m "
-        f"({result.error / e0:.1%} of $E_0$), $D^{{home}}$ = {result.home_distance:.3g} rad"
+        f"({share}), $D^{{home}}$ = {result.home_distance:.3g} rad"
     )
     return _finish(fig, (err_ax, home_ax), title, path, twin)
 
