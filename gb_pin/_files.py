@@ -38,8 +38,10 @@ _CLEANED: set[str] = set()  # paths whose directory was cleaned of stale tempora
 def check_writable(path: Any, what: str = "output file") -> str:
     """Check, before any work, that ``path`` can be written as a file; return it as a string.
 
-    The parent directory must exist and be a writable directory, ``path`` must not be a
-    directory, nor lie under ``/proc``, ``/sys`` or ``/dev``.
+    The parent directory must exist and be a writable directory on a file system that is not
+    full, ``path`` must not be a directory nor another file that is not a regular one (a FIFO, a
+    socket, a device), nor lie under ``/proc``, ``/sys`` or ``/dev``, and its name must leave room
+    for the temporary file's.
 
     Args:
         path: the file to be written (str or path-like).
@@ -60,6 +62,8 @@ def check_writable(path: Any, what: str = "output file") -> str:
         reason = "is under a system directory (/proc, /sys, /dev)"
     elif os.path.isdir(full):
         reason = "is a directory"
+    elif os.path.exists(full) and not os.path.isfile(full):  # a FIFO, socket or device (through links too)
+        reason = "exists and is not a regular file (a FIFO, socket or device)"
     elif not os.path.isdir(parent):
         reason = f"is in {parent!r}, which is not an existing directory"
     elif not os.access(parent, os.W_OK | os.X_OK):

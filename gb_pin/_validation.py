@@ -48,14 +48,15 @@ def positive_int(name: str, value: Any, minimum: int = 1, maximum: int = INT64_M
     The default ``maximum`` is :data:`INT64_MAX`: every integer checked here fits the 64-bit
     integers of compiled code and of int64 arrays (a Python int does not need to).
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not minimum <= value <= maximum:
+    number = int(value) if isinstance(value, numbers.Integral) and not isinstance(value, bool) else None
+    if number is None or not minimum <= number <= maximum:
         bound = (
             f"an integer >= {minimum}" if maximum == INT64_MAX else f"an integer in [{minimum}, {maximum}]"
         )
-        if maximum == INT64_MAX and isinstance(value, numbers.Integral) and value > maximum:
+        if maximum == INT64_MAX and number is not None and number > maximum:
             bound = f"an integer in [{minimum}, 2**63 - 1] (64-bit)"
         raise InvalidArgumentError(f"{name} must be {bound}, got {_short(value)}")
-    return int(value)
+    return number
 
 
 def _short(value: Any) -> str:

@@ -8,6 +8,11 @@ import sys
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from collections.abc import Iterator
+
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
     from gb_pin.cli.options import Subparsers
     from gb_pin.ik.solution import IKSolution
 
@@ -46,7 +51,7 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     s.set_defaults(func=run)
 
 
-def read_targets_csv(path: str, axes: str) -> list[list[float]]:
+def read_targets_csv(path: str, axes: str) -> NDArray[np.float64]:
     """The targets of a CSV file: one per line, ``len(axes)`` comma-separated numbers [m].
 
     Read in bounds by the point-file reader of babble's ``--targets`` (:func:`gb_pin._points.read_points`).
@@ -56,10 +61,10 @@ def read_targets_csv(path: str, axes: str) -> list[list[float]]:
     """
     from gb_pin._points import read_points
 
-    return read_points(path, "--targets", axes=axes).tolist()
+    return read_points(path, "--targets", axes=axes)
 
 
-def _targets(args: argparse.Namespace, axes: str, name: str) -> list[list[float]]:
+def _targets(args: argparse.Namespace, axes: str, name: str) -> ArrayLike:
     from gb_pin._points import finite_number
     from gb_pin.exceptions import InvalidArgumentError
 
@@ -80,20 +85,20 @@ def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) ->
     return json.dumps({**head, "solutions": sol.records()}, indent=1)
 
 
-def _as_text(sol: IKSolution, joints: tuple[str, ...]) -> str:
+def _as_text(sol: IKSolution, joints: tuple[str, ...]) -> Iterator[str]:
+    """The solutions as lines of text (one per target, then the summary), made one at a time."""
     from gb_pin._names import listing
 
-    lines = ["joints: " + listing(joints, " ")]  # names from a URDF: printable
+    yield "joints: " + listing(joints, " ")  # names from a URDF: printable
     for r in range(len(sol)):
         target = " ".join(f"{v:.4f}" for v in sol.targets[r])
         posture = " ".join(f"{v:+.4f}" for v in sol.postures[r])
         status = "ok" if sol.success[r] else "NOT REACHED"
-        lines.append(
+        yield (
             f"[{target}] -> q [{posture}]  residual {sol.residuals[r]:.2e} m, "
             f"{int(sol.iterations[r])} iterations, {status}"
         )
-    lines.append(sol.summary())
-    return "\n".join(lines)
+    yield sol.summary()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -107,7 +112,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(_as_json(sol, target.name, target.joints, target.axes))
     else:
-        print(_as_text(sol, target.joints))
+        for line in _as_text(sol, target.joints):  # line by line: 10^6 targets print in bounded memory
+            print(line)
     if not sol.success.all():
         print(f"gb-pin: {int((~sol.success).sum())} target(s) not reached to {sol.tol:g} m", file=sys.stderr)
         return 1

@@ -217,7 +217,8 @@ def _check_fields(raw: dict[str, Any], source: str) -> None:
     for key in ("movements", "error", "home_distance", "prototypes"):
         problems[key] = not isinstance(raw.get(key), list)
     for key, top in (("movements", MAX_MOVEMENTS), ("prototypes", INT64_MAX)):  # whole counts, in int64
-        values = raw.get(key)
+        found = raw.get(key)
+        values: list[Any] = found if isinstance(found, list) else []
         problems[key] = problems[key] or not all(
             isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= top for v in values
         )
