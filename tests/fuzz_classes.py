@@ -101,6 +101,25 @@ def _special_files() -> list[Probe]:
     return out
 
 
+@listed
+def _meshes() -> list[Probe]:
+    """A URDF whose visual names a special file as its mesh: refused before pinocchio's loader."""
+    out = []
+    for kind in KINDS:
+
+        def mesh(tmp: Path, kind: str = kind) -> None:
+            path = special(kind, tmp, ".stl")
+            cylinder = '<cylinder radius="0.05" length="0.1"/>'
+            urdf = SMALL_URDF.read_text().replace(cylinder, f'<mesh filename="{path}"/>', 1)
+            (tmp / "m.urdf").write_text(urdf)
+            arm = gb_pin.KinematicTarget.from_urdf(tmp / "m.urdf", "tool")
+            expect_error(arm.visual_model, "mesh", within=5.0)
+
+        name = f"meshes: {kind.replace('_', ' to ').replace('zero', '/dev/zero')}"
+        out.append(Probe("meshes", "1 bounds", name, mesh, limit_mb=64, seconds=10))
+    return out
+
+
 def _npy_header(shape: tuple[int, ...], descr: str = "<f8") -> bytes:
     out = io.BytesIO()
     np.lib.format.write_array_header_1_0(out, {"descr": descr, "fortran_order": False, "shape": shape})

@@ -16,7 +16,7 @@ from pathlib import Path
 HARNESS = Path(__file__).with_name("fuzz_files.py")
 READERS = {"result", "result_urdf", "checkpoint", "session", "journal", "trials", "sweep", "points_csv",
            "points_npy", "ik_targets", "preset", "urdf", "plot_result", "plot_trials", "srdf",
-           "doc"}  # fmt: skip
+           "doc", "meshes"}  # fmt: skip
 CLASSES = {"0 mutations", "1 bounds", "2 integers", "3 wrong files", "4 failed writes", "5 processes",
            "6 MODULE:NAME", "7 viewer server", "8 robot descriptions", "9 messages"}  # fmt: skip
 

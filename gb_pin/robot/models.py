@@ -23,7 +23,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from gb_pin._names import closest
-from gb_pin._reading import read_bytes
+from gb_pin._reading import open_regular, read_bytes
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
 
 _SHARE = ("share", "example-robot-data", "robots")
@@ -379,7 +379,39 @@ def build_visual_model(
         GbPinError: the meshes cannot be loaded.
     """
     dirs = package_dirs_for(urdf) if package_dirs is None else list(package_dirs)
+    check_meshes(Path(os.fspath(urdf)), dirs)
     try:
         return pin.buildGeomFromUrdf(model, os.fspath(urdf), pin.GeometryType.VISUAL, package_dirs=dirs)
     except (ValueError, RuntimeError, IndexError) as exc:
         raise GbPinError(f"cannot load the visual meshes of {os.fspath(urdf)!r}: {exc}") from exc
+
+
+MAX_MESH_BYTES = 256 * 2**20
+"""The largest mesh file a URDF may name (example-robot-data's largest is a few MiB)."""
+
+
+def check_meshes(urdf: Path, package_dirs: list[str]) -> None:
+    """Refuse mesh files that pinocchio's loader would block on or exhaust memory with, before it runs.
+
+    Every ``<mesh filename=...>`` of the URDF that resolves to an existing path (``package://``
+    through ``package_dirs``, ``file://``, absolute, or relative to the URDF) must be a regular file
+    of at most :data:`MAX_MESH_BYTES`: a FIFO would block the viewer, ``/dev/zero`` never end.
+
+    Raises:
+        GbPinError: naming the mesh and what it is.
+    """
+    text = check_urdf_size(urdf)
+    for raw in re.findall(rb"<\s*mesh\b[^>]*?\bfilename\s*=\s*[\"']([^\"']*)[\"']", text):
+        name = raw.decode("utf-8", "replace")
+        if name.startswith("package://"):
+            rest = name[len("package://") :]
+            candidates = [Path(d) / rest for d in package_dirs]
+        else:
+            path = Path(name.removeprefix("file://"))
+            candidates = [path if path.is_absolute() else urdf.parent / path]
+        for candidate in candidates:
+            if os.path.lexists(candidate):
+                read_check = open_regular(candidate, f"mesh {name[:200]!r} of {str(urdf)!r}", "mesh file",
+                                          MAX_MESH_BYTES, GbPinError)[0]  # fmt: skip
+                read_check.close()
+                break

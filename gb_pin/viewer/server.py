@@ -75,6 +75,8 @@ def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
     Raises:
         ViewerError: the port is taken, or none of the ports tried is free.
     """
+    if port is not None and not (isinstance(port, int) and 1 <= port <= 65535):
+        raise ViewerError(f"port must be an integer in [1, 65535], got {port!r}")
     ports = [port] if port is not None else list(range(DEFAULT_PORT, DEFAULT_PORT + PORT_ATTEMPTS))
     errors = []
     for p in ports:
