@@ -38,7 +38,7 @@ from fuzz_mutations import (
     read_trials,
     read_urdf,
 )
-from fuzz_probes import CTX, SMALL_URDF, Probe, cli, expect_error, listed, probe, special
+from fuzz_probes import CTX, SMALL_URDF, Probe, cli, expect_error, listed, probe, rewrite_npz, special
 
 import gb_pin
 
@@ -280,18 +280,10 @@ def _integers() -> list[Probe]:
 
 
 # -- 3 files that load but are wrong --------------------------------------------------------------
-def _rewrite(path: Path, change: Callable[[dict[str, Any], dict[str, Any]], None]) -> None:
-    with np.load(path, allow_pickle=False) as f:
-        arrays = {k: f[k] for k in f.files}
-    meta = json.loads(str(arrays.pop("meta")))
-    change(arrays, meta)
-    np.savez(path, meta=np.array(json.dumps(meta)), **arrays)
-
-
 @probe("result", "3 wrong files", "result with an empty history", limit_mb=64)
 def _empty_history(tmp: Path) -> None:
     (tmp / "r.npz").write_bytes(CTX.originals["result"])
-    _rewrite(
+    rewrite_npz(
         tmp / "r.npz", lambda a, m: a.update({k: a[k][:0] for k in ("movements", "error", "home_distance")})
     )
     expect_error(lambda: read_result(tmp / "r.npz"), "history is empty")
@@ -310,7 +302,7 @@ def _zero_d(tmp: Path) -> None:
     for key in keys:
         for value in (np.array(1.0), np.array(3)):
             (tmp / "c.npz").write_bytes(CTX.originals["checkpoint"])
-            _rewrite(tmp / "c.npz", lambda a, m, k=key, v=value: a.update({k: v}))
+            rewrite_npz(tmp / "c.npz", lambda a, m, k=key, v=value: a.update({k: v}))
             with contextlib.suppress(gb_pin.GbPinError):
                 read_checkpoint(tmp / "c.npz")
 

@@ -34,6 +34,7 @@ import argparse
 import json
 import os
 import resource
+import shutil
 import signal
 import sys
 import tempfile
@@ -146,6 +147,8 @@ def run_probe(probe: Probe, tmp: Path) -> dict[str, Any]:
         answered = False
         report["detail"] = f"{seconds:.1f} s, over the probe's {probe.seconds} s"
     report["answered"] = answered
+    if answered:  # keep the files (and probe.log) of the others only
+        shutil.rmtree(tmp, ignore_errors=True)
     return report
 
 

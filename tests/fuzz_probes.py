@@ -9,7 +9,6 @@ large run (``--large``) or without ``--quick``.
 
 from __future__ import annotations
 
-import errno
 import os
 import shutil
 import signal
@@ -89,8 +88,8 @@ def warm_up() -> None:
 
 
 # -- running gb-pin -------------------------------------------------------------------------------
-PRELUDE = """
-import errno, os, sys
+ENOSPC = """
+import errno, os
 full = os.environ.get("GB_PIN_FUZZ_ENOSPC")
 if full:  # no tmpfs: a file system that is full under this directory, seen through fsync
     real = os.fsync
@@ -103,10 +102,29 @@ if full:  # no tmpfs: a file system that is full under this directory, seen thro
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return real(fd)
     os.fsync = fsync
+"""
+PRELUDE = (
+    ENOSPC
+    + """
+import sys
 sys.argv = ["gb-pin", *sys.argv[1:]]
 from gb_pin.cli import run
 run()
 """
+)
+
+
+def rewrite_npz(path: Path, change: Callable[[dict[str, Any], dict[str, Any]], None]) -> None:
+    """Rewrite the .npz at ``path`` with ``change(arrays, header)`` applied."""
+    import json
+
+    import numpy as np
+
+    with np.load(path, allow_pickle=False) as f:
+        arrays = {k: f[k] for k in f.files}
+    meta = json.loads(str(arrays.pop("meta")))
+    change(arrays, meta)
+    np.savez(path, meta=np.array(json.dumps(meta)), **arrays)
 
 
 @dataclass
@@ -237,21 +255,9 @@ class FullDisk:
 
     def patch(self) -> None:
         """In this process: fsync fails with ENOSPC under the directory (fallback mode only)."""
-        if self.mounted:
-            return
-        real = os.fsync
-        full = str(self.path)
-
-        def fsync(fd: int) -> None:
-            try:
-                where = os.readlink(f"/proc/self/fd/{fd}")
-            except OSError:
-                where = ""
-            if where.startswith(full + os.sep):
-                raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-            real(fd)
-
-        os.fsync = fsync
+        if not self.mounted:
+            os.environ["GB_PIN_FUZZ_ENOSPC"] = str(self.path)
+            exec(ENOSPC, {})
 
     def close(self) -> None:
         """Unmount the tmpfs (if one was mounted)."""

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from fuzz_probes import rewrite_npz
 
 import gb_pin
 from gb_pin import _points, _reading
@@ -134,7 +135,8 @@ def test_json_documents_and_journals_have_their_own_limits(tmp_path: Path) -> No
 
 
 def test_counts_that_would_allocate_are_refused_at_once() -> None:
-    from gb_pin.experiments.execute import MAX_TRIALS, max_workers
+    from gb_pin.experiments.execute import MAX_TRIALS
+    from gb_pin.experiments.pool import max_workers
 
     start = time.perf_counter()
     with pytest.raises(InvalidArgumentError, match="trials"):
@@ -182,17 +184,9 @@ def test_task_arguments_that_the_task_ignores_are_refused() -> None:
 
 
 # -- 3. files that load but are wrong ---------------------------------------------------------------
-def _rewrite(path: Path, change: Any) -> None:
-    with np.load(path, allow_pickle=False) as f:
-        arrays = {k: f[k] for k in f.files}
-    meta = json.loads(str(arrays.pop("meta")))
-    change(arrays, meta)
-    np.savez(path, meta=np.array(json.dumps(meta)), **arrays)
-
-
 def test_a_result_with_an_empty_history_is_refused_at_load(tmp_path: Path) -> None:
     gb_pin.babble("planar5", movements=5, seed=0).save(tmp_path / "r.npz")
-    _rewrite(
+    rewrite_npz(
         tmp_path / "r.npz",
         lambda a, m: a.update({k: a[k][:0] for k in ("movements", "error", "home_distance")}),
     )
@@ -210,7 +204,7 @@ def test_a_0d_array_in_any_checkpoint_field_is_refused(tmp_path: Path) -> None:
     accepted = []
     for key in keys:  # each either refused (ResultFileError) or, where a 0-d value is right, resumed
         path.write_bytes(original)
-        _rewrite(path, lambda a, m, k=key: a.update({k: np.array(3)}))
+        rewrite_npz(path, lambda a, m, k=key: a.update({k: np.array(3)}))
         try:
             gb_pin.resume(path)
             accepted.append(key)

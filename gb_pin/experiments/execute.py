@@ -9,13 +9,8 @@ worker builds its robot from the name.
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
-import threading
-import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import InvalidArgumentError, ResultFileError
 from gb_pin.experiments.conditions import (
     MAX_CONDITIONS,
     Condition,
@@ -32,6 +27,7 @@ from gb_pin.experiments.conditions import (
     conditions_grid,
 )
 from gb_pin.experiments.journal import TrialJournal, TrialOutput, TrialTask
+from gb_pin.experiments.pool import max_workers, run_pool
 from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
@@ -59,7 +55,6 @@ def run_trial_batch(tasks: list[TrialTask]) -> list[TrialOutput]:
 MAX_TRIALS = 10**5
 """The most trials of one call (all conditions together): 10^5 trials of 0.1 s are 3 hours of one core;
 a larger study is several calls (each with its journal)."""
-WORKERS_PER_CORE = 4
 
 # Dask costs about 1 ms per task: trials are batched so that a task runs about 0.1 s.
 # A trial's cost is movements * (joints + 5) (_plan); planar20 at the default path length runs
@@ -156,7 +151,9 @@ def _execute(
     results: list[TrialOutput | None] = [None] * len(tasks)
     if journal is not None:
         for i, task in enumerate(tasks):
-            results[i] = journal.done.get(TrialJournal.key(task))
+            out = journal.done.get(TrialJournal.key(task))
+            if out is not None and out[0].shape == (len(task[3]),):  # a line of another length: recomputed
+                results[i] = out
     bar = None
     if progress:
         from tqdm import tqdm
@@ -192,47 +189,13 @@ def _execute(
             for i in order:
                 done(i, run_one_trial(*tasks[i]))
         else:
-            _run_pool(tasks, order, min(workers or 1, len(todo)), done)
+            run_pool(run_one_trial, tasks, order, min(workers or 1, len(todo)), done)
     except KeyboardInterrupt as exc:
         raise KeyboardInterrupt(_interrupted(results, journal, str(exc))) from None
     finally:
         if bar is not None:
             bar.close()
     return [r for r in results if r is not None]
-
-
-def _run_pool(tasks: list[TrialTask], order: list[int], workers: int, done: Any) -> None:
-    """Run the tasks in a local process pool, passing each output to ``done`` as it comes.
-
-    On Ctrl-C the trials finished meanwhile are passed to ``done`` too, the pending ones cancelled
-    and the workers stopped at once; then KeyboardInterrupt goes on.
-    """
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
-    futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
-    passed: set[int] = set()
-    try:
-        for fut in as_completed(futures):
-            passed.add(futures[fut])
-            done(futures[fut], fut.result())
-    except KeyboardInterrupt:
-        for fut, i in futures.items():
-            if i not in passed and fut.done() and not fut.cancelled() and fut.exception() is None:
-                done(i, fut.result())  # finished while we were interrupted: journal it too
-        _stop(pool)
-        raise
-    except BaseException:
-        _stop(pool)
-        raise
-    pool.shutdown()
-
-
-def _stop(pool: ProcessPoolExecutor) -> None:
-    """Cancel the pool's pending tasks and end its workers now, not after their running trials."""
-    processes = list(getattr(pool, "_processes", None) or {})  # pid -> Process (shutdown clears it)
-    pool.shutdown(wait=False, cancel_futures=True)
-    for pid in processes:
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(pid, signal.SIGKILL)  # a worker keeps no state: its trial is recomputed next time
 
 
 def _interrupted(results: list[TrialOutput | None], journal: TrialJournal | None, reason: str) -> str:
@@ -245,42 +208,6 @@ def _interrupted(results: list[TrialOutput | None], journal: TrialJournal | None
             "run the same command again to compute only the others"
         )
     return f"{head}: {finished} of {total} trials finished (a journal, --checkpoint FILE, keeps them)"
-
-
-def _start_worker(parent: int) -> None:
-    """Start a pool worker: Ctrl-C is its parent's to handle, and it exits when its parent is gone.
-
-    (Without this every worker would print a KeyboardInterrupt traceback; :func:`watch_parent`.)
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    watch_parent(parent)
-
-
-PARENT_POLL = 0.5  # [s] between a worker's checks that the process that started it is alive
-
-
-def watch_parent(parent: int) -> None:
-    """In a worker process: exit as soon as ``parent`` (the process running the trials) is gone.
-
-    A daemon thread polls the parent every :data:`PARENT_POLL` seconds, so killing ``gb-pin trials``
-    (even with SIGKILL) does not leave its workers computing for minutes.
-    """
-    started_by = os.getppid()
-
-    def poll() -> None:
-        while True:
-            time.sleep(PARENT_POLL)
-            try:
-                os.kill(parent, 0)
-                alive = os.getppid() == started_by
-            except ProcessLookupError:
-                alive = False
-            except PermissionError:  # the pid was reused by another user's process
-                alive = False
-            if not alive:
-                os._exit(1)
-
-    threading.Thread(target=poll, name="gb_pin-watch-parent", daemon=True).start()
 
 
 def _check_executor(workers: int | None, scheduler: Any) -> int | None:
@@ -305,16 +232,12 @@ def _check_executor(workers: int | None, scheduler: Any) -> int | None:
     return check.positive_int("workers", workers, maximum=max_workers())
 
 
-def max_workers() -> int:
-    """The most local worker processes a run may start: :data:`WORKERS_PER_CORE` per core, at least 16.
-
-    Each worker loads numpy, numba and the kernels (about 0.1-0.2 GB): many more than the cores
-    only exhaust the memory.
-    """
-    return max(16, WORKERS_PER_CORE * (os.cpu_count() or 1))
-
-
 def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSet:
+    if len({None if o[3] is None else o[3].shape for o in outputs}) > 1:
+        raise ResultFileError(
+            f"{plan.condition.label}: the trial journal holds trials whose E^X per task component has "
+            "another shape than the others' (a tampered line?): remove those lines to recompute them"
+        )
     error = np.array([o[0] for o in outputs])
     return TrialSet(
         robot=plan.condition.robot,

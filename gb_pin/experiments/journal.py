@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import check_writable, write_or_fallback, write_text
+from gb_pin._validation import INT64_MAX
 from gb_pin.exceptions import GbPinWarning, InvalidArgumentError, ResultFileError
 from gb_pin.experiments._json import plain, read_lines
 
@@ -186,7 +187,7 @@ def _output(entry: Any) -> TrialOutput:
             raise ValueError(f"{name} is not a list of numbers")
         curves.append(np.array([np.nan if v is None else v for v in values], dtype=float))
     prototypes = entry["prototypes"]
-    if isinstance(prototypes, bool) or not isinstance(prototypes, int) or prototypes < 1:
+    if isinstance(prototypes, bool) or not isinstance(prototypes, int) or not 1 <= prototypes <= INT64_MAX:
         raise ValueError("prototypes is not a count")
     if curves[0].shape != curves[1].shape or np.any(np.isinf(curves[0])) or np.any(np.isinf(curves[1])):
         raise ValueError("curves of different lengths or infinite")
