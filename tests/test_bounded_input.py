@@ -284,6 +284,27 @@ def test_urdf_text_parsing_builds_the_model_the_path_does() -> None:
     assert "ready" in model.referenceConfigurations
 
 
+def test_a_urdf_that_is_not_utf8_loads_with_printable_names(tmp_path: Path) -> None:
+    """pinocchio read such a file itself and gave names Python could not decode (UnicodeDecodeError)."""
+    (tmp_path / "l.urdf").write_bytes((DATA / "small_arm.urdf").read_bytes().replace(b'"j2"', b'"j\xff2"'))
+    arm = gb_pin.KinematicTarget.from_urdf(tmp_path / "l.urdf", "tool")
+    assert arm.joints == ("j1", "j\xff2", "j3", "j4")
+
+
+def test_negative_distances_in_files_are_refused_and_plots_take_any_history(tmp_path: Path) -> None:
+    """E^X and D^home are distances: a file with negative ones is wrong; a history of zeros still plots."""
+    import dataclasses
+
+    pytest.importorskip("matplotlib")
+    res = gb_pin.babble("planar5", movements=10, seed=0)
+    res.save(tmp_path / "r.npz")
+    rewrite_npz(tmp_path / "r.npz", lambda a, m: a.update(error=-a["error"]))
+    with pytest.raises(ResultFileError, match="negative"):
+        gb_pin.load_result(tmp_path / "r.npz")
+    zeros = dataclasses.replace(res.history, error=np.zeros_like(res.history.error))
+    dataclasses.replace(res, history=zeros).plot(tmp_path / "zeros.png")  # log axes need a positive value
+
+
 def test_a_continuous_joint_about_an_unaligned_axis_is_read_as_pinocchio_does(tmp_path: Path) -> None:
     (tmp_path / "t.urdf").write_text(
         '<robot name="t"><link name="b"/><link name="l1"/><link name="tool"/>'

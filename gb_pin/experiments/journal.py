@@ -189,8 +189,8 @@ def _output(entry: Any) -> TrialOutput:
     prototypes = entry["prototypes"]
     if isinstance(prototypes, bool) or not isinstance(prototypes, int) or not 1 <= prototypes <= INT64_MAX:
         raise ValueError("prototypes is not a count")
-    if curves[0].shape != curves[1].shape or np.any(np.isinf(curves[0])) or np.any(np.isinf(curves[1])):
-        raise ValueError("curves of different lengths or infinite")
+    if curves[0].shape != curves[1].shape or any(np.any(np.isinf(c) | (c < 0)) for c in curves):
+        raise ValueError("curves of different lengths, infinite or negative")
     components = None
     if entry.get("components") is not None:  # journals written before per-component curves have none
         rows = entry["components"]
@@ -200,6 +200,10 @@ def _output(entry: Any) -> TrialOutput:
         if not all(v is None or (isinstance(v, int | float) and not isinstance(v, bool)) for v in flat):
             raise ValueError("components is not a table of numbers")
         components = np.array([[np.nan if v is None else v for v in row] for row in rows], dtype=float)
-        if components.ndim != 2 or not 1 <= components.shape[1] <= 64 or np.any(np.isinf(components)):
+        if (
+            components.ndim != 2
+            or not 1 <= components.shape[1] <= 64
+            or np.any(np.isinf(components) | (components < 0))
+        ):
             raise ValueError("components is not a (T, C) table of finite numbers")
     return curves[0], curves[1], prototypes, components

@@ -146,12 +146,9 @@ class TrialSet:
             raise ResultFileError(f"{source}: arrays of inconsistent shapes")
         if out.movements.size and (out.movements[0] < 0 or np.any(np.diff(out.movements) <= 0)):
             raise ResultFileError(f"{source}: movements must be increasing counts >= 0")
-        if (
-            np.any(np.isinf(out.error))
-            or np.any(np.isinf(out.home_distance))
-            or (out.components is not None and np.any(np.isinf(out.components)))
-        ):
-            raise ResultFileError(f"{source}: infinite E^X or D^home")
+        curves = (out.error, out.home_distance, *(() if out.components is None else (out.components,)))
+        if any(np.any(np.isinf(c) | (c < 0)) for c in curves):
+            raise ResultFileError(f"{source}: infinite or negative E^X or D^home (a distance is >= 0)")
         return out
 
     def plot(self, path: str | os.PathLike[str] | None = None, ax: Any = None) -> Any:

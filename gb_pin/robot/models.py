@@ -310,10 +310,7 @@ def load_urdf_model(
     text = _xml_text(check_urdf_size(urdf))
     try:
         root = [pin.JointModelFreeFlyer()] if floating_base else []
-        if text is None:  # not UTF-8: pinocchio reads the file itself (after the checks above)
-            model = pin.buildModelFromUrdf(str(urdf), *root)
-        else:
-            model = pin.buildModelFromXML(text, *root)
+        model = pin.buildModelFromXML(text, *root)
     except (ValueError, RuntimeError, IndexError) as exc:
         raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {str(exc)[:300]}") from exc
     if model.njoints <= 1:
@@ -325,21 +322,23 @@ def load_urdf_model(
         label = f"SRDF file {str(srdf_path)!r}"
         xml = _xml_text(read_bytes(srdf_path, label, "SRDF file", MAX_URDF_BYTES, InvalidArgumentError))
         try:
-            if xml is None:  # not UTF-8: pinocchio reads the file itself (after the checks above)
-                pin.loadReferenceConfigurations(model, str(srdf_path), False)
-            else:
-                pin.loadReferenceConfigurationsFromXML(model, xml, False)
+            pin.loadReferenceConfigurationsFromXML(model, xml, False)
         except (ValueError, RuntimeError, IndexError) as exc:
             raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
     return model
 
 
-def _xml_text(data: bytes) -> str | None:
-    """An XML file's bytes as text, or None if they are not UTF-8 (then pinocchio reads the file)."""
+def _xml_text(data: bytes) -> str:
+    """An XML file's bytes as text: UTF-8, else Latin-1 (every byte a character).
+
+    Pinocchio reads the text it is given; a file that is not UTF-8 (a Latin-1 URDF, or a corrupted
+    one) read by pinocchio itself gave names that Python could not decode (UnicodeDecodeError at
+    the first ``model.names``).
+    """
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
-        return None
+        return data.decode("latin-1")
 
 
 def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:

@@ -52,9 +52,10 @@ def _axes(ax: Any) -> tuple[Any, Any, Any]:
 
 
 def _style(err_ax: Any, home_ax: Any, twin: bool) -> None:
-    """Log axes, units and grids of the two curves."""
+    """Log axes, units and grids of the two curves (E^X with nothing positive to show stays linear)."""
     err_ax.set_xscale("log")
-    err_ax.set_yscale("log")
+    if _positive(err_ax):
+        err_ax.set_yscale("log")
     err_ax.set_xlabel("movements r")
     err_ax.set_ylabel("performance error $E^X$ [m]", color=ERROR_COLOR if twin else "black")
     home_ax.set_ylabel("distance from home $D^{home}$ [rad]", color=HOME_COLOR if twin else "black")
@@ -65,6 +66,15 @@ def _style(err_ax: Any, home_ax: Any, twin: bool) -> None:
         home_ax.grid(True, which="major", alpha=0.3)
         err_ax.set_title("(a)", loc="left")
         home_ax.set_title("(b)", loc="left")
+
+
+def _positive(ax: Any) -> bool:
+    """Whether the curves drawn on ``ax`` have a positive finite value (a log axis needs one)."""
+    for line in ax.get_lines():
+        y = np.asarray(line.get_ydata(), dtype=float)
+        if np.any(np.isfinite(y) & (y > 0)):
+            return True
+    return False
 
 
 def _finish(
