@@ -189,6 +189,30 @@ def _counts() -> list[Probe]:
     return [*out, Probe("ik", "1 bounds", "solve_path(steps=10**9)", path, "error", owner="ik")]
 
 
+@probe(
+    "trials", "1 bounds", "a trial set of just under 64 MiB of numbers", limit_mb=1500, seconds=120, slow=True
+)
+def _big_trial_set(tmp: Path) -> None:
+    """The largest trial set read: its peak memory while parsed (JSON numbers become Python objects)."""
+    from gb_pin.experiments._json import MAX_JSON_BYTES
+
+    raw = json.loads(CTX.originals["trials"])
+    columns = (MAX_JSON_BYTES - 4096) // 45  # a movement count (8 bytes), 4 numbers "0.123456," (36)
+    head = {k: v for k, v in raw.items() if k not in ("movements", "error", "home_distance")}
+    with open(tmp / "t.json", "w") as fh:  # in chunks: this process stays small (it is measured)
+        fh.write(json.dumps(head)[:-1] + ', "movements": [')
+        for start in range(0, columns, 100_000):
+            sep = "," if start else ""
+            fh.write(sep + ",".join(map(str, range(start, min(columns, start + 100_000)))))
+        for key in ("error", "home_distance"):
+            fh.write(f'], "{key}": [')
+            for trial in range(2):
+                fh.write(("," if trial else "") + "[" + ",".join(["0.123456"] * columns) + "]")
+        fh.write("]}")
+    assert (tmp / "t.json").stat().st_size <= MAX_JSON_BYTES
+    read_trials(tmp / "t.json")
+
+
 @listed
 def _big_commands() -> list[Probe]:
     """gb-pin ik --targets and babble --targets on large CSV files: the whole command's peak memory."""

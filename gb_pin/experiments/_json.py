@@ -17,7 +17,7 @@ from gb_pin.exceptions import ResultFileError
 
 MAX_JSON_BYTES = 64 * 2**20
 """The largest trial set or sweep file read (checked before reading): parsed whole, a JSON file of
-numbers takes about 12 times its size in memory while it is converted (a 64 MiB file about 0.8 GB)."""
+numbers takes 6 to 12 times its size in memory while it is converted (0.4 to 0.8 GB at 64 MiB)."""
 MAX_JOURNAL_BYTES = 256 * 2**20
 """The largest trial journal read: it is read line by line, keeping only the parsed curves."""
 MAX_LINE_BYTES = 16 * 2**20
