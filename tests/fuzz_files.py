@@ -102,6 +102,7 @@ def _in_child(probe: Probe, tmp: Path, write_fd: int) -> None:
         report["outcome"] = "raw"
         report["detail"] = f"{type(exc).__name__}: {str(exc)[:300]} @ {traceback.format_exc()[-400:]}"
     report["cli_peak_kb"] = fuzz_probes.CLI_PEAK_KB[0]
+    report["own_errors"] = fuzz_probes.OWN_ERRORS[0]
     try:
         os.write(write_fd, json.dumps(report).encode())
     finally:
@@ -154,10 +155,20 @@ def run_probe(probe: Probe, tmp: Path) -> dict[str, Any]:
 
 def _tally(counts: dict[str, Any], key: str, probe: Probe, report: dict[str, Any]) -> None:
     c = counts.setdefault(
-        key, {"tried": 0, "answered": 0, "other": 0, "peak_mb": 0.0, "slowest_s": 0.0, "failures": []}
+        key,
+        {
+            "tried": 0,
+            "answered": 0,
+            "own_error": 0,
+            "other": 0,
+            "peak_mb": 0.0,
+            "slowest_s": 0.0,
+            "failures": [],
+        },
     )
     c["tried"] += 1
     c["answered" if report["answered"] else "other"] += 1
+    c["own_error"] += report["answered"] and (report["outcome"] == "own" or report.get("own_errors", 0) > 0)
     c["peak_mb"] = max(c["peak_mb"], report["peak_mb"])
     c["slowest_s"] = max(c["slowest_s"], report["seconds"])
     if not report["answered"] and len(c["failures"]) < 5:
@@ -196,9 +207,19 @@ def fuzz(
 
 def table(counts: dict[str, Any]) -> str:
     """The counts as a markdown table."""
-    lines = ["| | tried | answered | other | peak memory [MB] | slowest [s] |", "|---|---|---|---|---|---|"]
+    lines = [
+        "| | tried | answered | of which gb_pin's error | other | peak memory [MB] | slowest [s] |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for key, c in counts.items():
-        cells = (c["tried"], c["answered"], c["other"], f"{c['peak_mb']:.0f}", f"{c['slowest_s']:.2f}")
+        cells = (
+            c["tried"],
+            c["answered"],
+            c["own_error"],
+            c["other"],
+            f"{c['peak_mb']:.0f}",
+            f"{c['slowest_s']:.2f}",
+        )
         lines.append(f"| {key} | " + " | ".join(map(str, cells)) + " |")
     return "\n".join(lines)
 
@@ -214,6 +235,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--table", action="store_true", help="print markdown tables before the JSON")
     args = parser.parse_args(argv)
     fuzz_probes.warm_up()  # compile and import before the first fork
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(143))  # unmount the tmpfs on the way out
     with tempfile.TemporaryDirectory() as tmp:
         counts = fuzz(args.probes, args.seed, Path(tmp), args.large, args.quick and not args.large, args.only)
     if args.table:

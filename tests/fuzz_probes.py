@@ -25,6 +25,7 @@ import gb_pin
 DATA = Path(__file__).resolve().parent / "data"
 SMALL_URDF = DATA / "small_arm.urdf"
 CLI_PEAK_KB = [0]  # the largest peak memory of a gb-pin command run by the current probe [KiB]
+OWN_ERRORS = [0]  # gb_pin errors the current probe saw where it expected them (expect_error)
 
 
 @dataclass(frozen=True)
@@ -194,6 +195,7 @@ def expect_error(call: Callable[[], Any], *needles: str, within: float = 5.0) ->
         assert not missing, f"message lacks {missing}: {text[:300]}"
         assert "\x1b" not in text, f"an escape byte in the message: {text[:300]!r}"
         assert time.perf_counter() - start < within, f"{time.perf_counter() - start:.1f} s"
+        OWN_ERRORS[0] += 1
         return
     raise AssertionError("no error")
 
