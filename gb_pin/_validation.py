@@ -37,17 +37,32 @@ def probability(name: str, value: Any) -> float:
     return float(value)
 
 
-def positive_int(name: str, value: Any, minimum: int = 1, maximum: int | None = None) -> int:
+INT64_MAX = 2**63 - 1
+"""The largest integer an argument may be by default: what compiled code and int64 arrays hold."""
+
+
+def positive_int(name: str, value: Any, minimum: int = 1, maximum: int = INT64_MAX) -> int:
     """Return ``value`` as an int if it is an integer in [``minimum``, ``maximum``], else raise.
 
     numpy integers are accepted (and returned as Python ints); bools, floats and strings are not.
+    The default ``maximum`` is :data:`INT64_MAX`: every integer checked here fits the 64-bit
+    integers of compiled code and of int64 arrays (a Python int does not need to).
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        bound = f"an integer >= {minimum}" if maximum is None else f"an integer in [{minimum}, {maximum}]"
-        raise InvalidArgumentError(f"{name} must be {bound}, got {value!r}")
-    if maximum is not None and int(value) > maximum:
-        raise InvalidArgumentError(f"{name} must be an integer in [{minimum}, {maximum}], got {value!r}")
-    return int(value)
+    number = int(value) if isinstance(value, numbers.Integral) and not isinstance(value, bool) else None
+    if number is None or not minimum <= number <= maximum:
+        bound = (
+            f"an integer >= {minimum}" if maximum == INT64_MAX else f"an integer in [{minimum}, {maximum}]"
+        )
+        if maximum == INT64_MAX and number is not None and number > maximum:
+            bound = f"an integer in [{minimum}, 2**63 - 1] (64-bit)"
+        raise InvalidArgumentError(f"{name} must be {bound}, got {_short(value)}")
+    return number
+
+
+def _short(value: Any) -> str:
+    """``repr(value)``, cut to 100 characters (a huge int or list stays readable)."""
+    text = repr(value)
+    return text if len(text) <= 100 else f"{text[:60]}... ({len(text)} characters)"
 
 
 MAX_MOVEMENTS = 10**12

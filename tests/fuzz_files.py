@@ -1,327 +1,255 @@
-"""Fuzzing of every file reader over mutated real files (run by tests/test_fuzz_files.py, or alone).
+"""Every file reader fuzzed, every class of problem of issue 24 probed (tests/test_fuzz_files.py, or alone).
 
-Readers: result files (``load_result``, then ``inverse``; also of a URDF robot, whose recorded robot
-source is rebuilt), checkpoints (``resume`` to the end when
-the run is short, else ``read_checkpoint`` and 100 movements of the compiled loop on the state read),
-trial journals (``run_trials(checkpoint=)``), trial sets (``TrialSet.load``) and robot presets
-(``robots/*.toml``). Mutations: truncation, byte flips, zeroed runs, appended garbage, forged zip
-sizes, and semantic ones (header values and arrays replaced by wrong types, shapes, ranges,
-non-finite or huge values). Every outcome must be success or gb_pin's own error, each within a
-time bound (``signal.alarm``: an overrun is a failure naming the probe); the process runs under a
-memory limit, so an allocation a file talks us into fails. Probe i of a reader mutates with its own
-generator, seeded by (seed, reader, i): a failure is reproduced by its probe number alone.
+Two kinds of probes, each in a process of its own, forked from this warm one (a probe costs
+milliseconds, and a crash, hang or runaway allocation stays contained):
 
-    python tests/fuzz_files.py --probes 2000 --seed 1      # prints the counts as JSON
+- mutations: real files of every kind, written by gb_pin, mutated (truncation, byte flips, zeroed
+  runs, appended garbage, forged zip sizes, wrong header values and arrays, ...) and given to
+  their reader: results (loaded, then ``inverse``; also of a URDF robot, whose robot source is
+  rebuilt), checkpoints (``resume``), sessions' checkpoints (``resume_session``, then steps),
+  trial journals (``run_trials(checkpoint=)``), trial sets, sweeps, point files (``--targets`` /
+  ``--eval-targets`` .csv and .npy), ``gb-pin ik --targets`` files, presets (TOML), URDFs and
+  plots (``gb-pin plot`` of a result and of a trial set);
+- targeted probes (tests/fuzz_probes.py), one or more per class of the issue: special files
+  (FIFO, /dev/zero, a directory, a symlink to each) given to every reader, sizes declared far
+  beyond what is there, integers beyond int64, files that load but are wrong, full disks (a small
+  tmpfs where this process may mount one, else ENOSPC from a monkeypatched ``os.fsync``), killed
+  and interrupted processes, ``--robot MODULE:NAME`` specs, the viewer server, robot descriptions
+  and messages.
+
+A probe is answered when it ends as it should: success where success is right, else gb_pin's own
+error (and, for the targeted ones, the checks the probe makes: the message, what was written,
+how fast); anything else (another exception, a crash, a signal, a probe over its time or memory
+limit) is "other". Peak memory is each probe's own (``os.wait4``'s ``ru_maxrss``): above this
+process for probes run in the fork, absolute for the ``gb-pin`` commands a probe starts. Probe i
+of a reader mutates with its own generator, seeded by (seed, reader, i), so a failure is
+reproduced by its number alone.
+
+    python tests/fuzz_files.py --probes 2000 --seed 1 --large     # the large run: a table, then JSON
 """
 
 from __future__ import annotations
 
 import argparse
-import io
 import json
+import os
 import resource
+import shutil
 import signal
-import struct
 import sys
+import tempfile
 import time
 import traceback
-from collections.abc import Callable
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 import gb_pin
-from gb_pin.robot.presets import _read_preset
 
-MEMORY_LIMIT = 3 << 30  # bytes of address space beyond what is in use at the start
-TIME_LIMIT = 5  # seconds per probe (signal.alarm)
-RESUME_LIMIT = 10_000  # checkpoints of longer runs are read and stepped 100 movements, not resumed
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import fuzz_classes
+import fuzz_mutations
+import fuzz_probes
+from fuzz_probes import Probe
+
+_ = fuzz_classes
+
+MEMORY_LIMIT = 3 << 30  # bytes of address space a probe may add to this process's
+HARD_EXTRA = 15.0  # [s] beyond a probe's own alarm before it is killed
 
 
 class ProbeTimeoutError(Exception):
-    """A probe ran past TIME_LIMIT (raised by the alarm)."""
+    """A probe ran past its time (raised by the alarm)."""
 
 
 def _alarm(signum: int, frame: Any) -> None:
-    raise ProbeTimeoutError(f"ran past {TIME_LIMIT} s")
+    raise ProbeTimeoutError("ran past its time limit")
 
 
-def _originals(tmp: Path) -> dict[str, bytes]:
-    """Real files of every kind, written by gb_pin itself."""
-    from gb_pin.runs.checkpoint import CheckpointInfo, write_checkpoint
-
-    res = gb_pin.babble("planar5", movements=40, seed=1, record=gb_pin.Recording(every=3, first=0, last=10))
-    res.save(tmp / "result.npz")
-    target = gb_pin.load_robot("planar5")
-    config = gb_pin.GoalBabbling()._resolve(target.n_joints)
-    st = gb_pin.BabbleState.start(
-        target, target.targets, 60, config, seed=2, record=gb_pin.Recording(every=5)
-    )
-    st.run(25)
-    write_checkpoint(tmp / "ckpt.npz", st, CheckpointInfo("planar5", "planar5", 60, 2, config, 0.1))
-    ts = gb_pin.run_trials(
-        "planar5", trials=2, movements=8, seed=3, checkpoint=tmp / "journal.jsonl", workers=1
-    )
-    ts.save(tmp / "trials.json")
-    preset = Path(str(resources.files("gb_pin.presets"))) / "talos_left_arm.toml"
-    urdf = Path(__file__).resolve().parent / "data" / "small_arm.urdf"
-    arm = gb_pin.KinematicTarget.from_urdf(urdf, "tool", ["j1", "j2", "j4"], home=[0.1, 0.2, 0.3])
-    gb_pin.babble(arm, movements=10, seed=4).save(tmp / "result_urdf.npz")
-    return {
-        "result_urdf": (tmp / "result_urdf.npz").read_bytes(),
-        "result": (tmp / "result.npz").read_bytes(),
-        "checkpoint": (tmp / "ckpt.npz").read_bytes(),
-        "journal": (tmp / "journal.jsonl").read_bytes(),
-        "trials": (tmp / "trials.json").read_bytes(),
-        "preset": preset.read_bytes(),
-    }
+def _resident() -> int:
+    """This process's resident memory [bytes]."""
+    with open("/proc/self/statm") as fh:
+        return int(fh.read().split()[1]) * resource.getpagesize()
 
 
-# -- mutations ----------------------------------------------------------------------
-def _bytes_mutation(data: bytes, rng: np.random.Generator) -> bytes:
-    b = bytearray(data)
-    how = rng.integers(0, 5)
-    if how == 0:  # truncate
-        return bytes(b[: rng.integers(0, len(b))])
-    if how == 1:  # flip a few bytes
-        for _ in range(rng.integers(1, 9)):
-            b[rng.integers(0, len(b))] ^= int(rng.integers(1, 256))
-        return bytes(b)
-    if how == 2:  # zero a run
-        i = int(rng.integers(0, len(b)))
-        b[i : i + int(rng.integers(1, 64))] = bytes(min(len(b) - i, 64))[: len(b[i : i + 64])]
-        return bytes(b)
-    if how == 3:  # append garbage
-        return bytes(b) + rng.bytes(int(rng.integers(1, 200)))
-    # forge the declared (uncompressed) size of a zip member: central directory and local header
-    pos = data.find(b"PK\x01\x02", int(rng.integers(0, max(1, len(data) - 4))))
-    if pos < 0:
-        pos = data.find(b"PK\x01\x02")
-    if pos >= 0:
-        b[pos + 24 : pos + 28] = struct.pack("<I", int(rng.choice([0xFFFFFFF0, 2**31, 10**9, 1])))
-    return bytes(b)
+def _address_space() -> int:
+    with open("/proc/self/statm") as fh:
+        return int(fh.read().split()[0]) * resource.getpagesize()
 
 
-WEIRD: list[Any] = [
-    None, -1, 0, 10**12, 2**64, -(10**9), 1e308, float("nan"), "seed", [1, 2], {"a": {"b": {"c": 1}}},
-    True, "", "planar5000000", "PCG64", [[[]]],
-]  # fmt: skip
-
-
-def _weird_array(arr: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    how = rng.integers(0, 9)
-    if how == 0:
-        return arr[..., :-1] if arr.ndim and arr.shape[-1] else arr.reshape(-1)[:0]
-    if how == 1:
-        return arr.astype(complex) if arr.dtype.kind in "fi" else arr
-    if how == 2:
-        return np.array(1.0)
-    if how == 3:
-        return np.full(arr.shape, np.nan) if arr.size else arr
-    if how == 4:
-        return np.full(arr.shape, np.inf) if arr.size else arr
-    if how == 5:
-        return (arr * -(10**9)).astype(arr.dtype) if arr.dtype.kind in "fi" else arr
-    if how == 6:
-        return np.zeros((0, *arr.shape[1:]), dtype=arr.dtype)
-    if how == 7:
-        return np.concatenate([arr, arr]) if arr.ndim else arr
-    return np.array(["text"])
-
-
-def _archive_mutation(data: bytes, rng: np.random.Generator) -> bytes:
-    """Rewrite an .npz with one header value or one array replaced by something wrong."""
-    with np.load(io.BytesIO(data), allow_pickle=False) as f:
-        arrays = {k: f[k] for k in f.files}
-    meta = json.loads(str(arrays["meta"]))
-    if rng.random() < 0.4:
-        key = str(rng.choice(sorted(meta)))
-        value = WEIRD[int(rng.integers(0, len(WEIRD)))]
-        if isinstance(meta[key], dict) and meta[key] and rng.random() < 0.5:
-            sub = str(rng.choice(sorted(meta[key])))
-            meta[key] = {**meta[key], sub: value}
-        else:
-            meta[key] = value
-        if rng.random() < 0.1:
-            meta = {"format": meta.get("format"), "format_version": 1, "x": json.loads("[" * 50 + "]" * 50)}
-        arrays["meta"] = np.array(json.dumps(meta))
-    else:
-        key = str(rng.choice(sorted(k for k in arrays if k != "meta")))
-        arrays[key] = _weird_array(arrays[key], rng)
-    out = io.BytesIO()
-    np.savez(out, **arrays)
-    return out.getvalue()
-
-
-SOURCE_TRICKS: list[Any] = [
-    "relative/arm.urdf", "/etc/passwd", "/dev/zero", "/no/such/arm.urdf", "erd:romeo", "os:system", "module",
-    "urdf", "erd", "0" * 64, "x" * 100_000, ["j1"] * 3, ["j1", "j2"], [0.1, "a", 0.3], "xx", "xyzx",
-]  # fmt: skip
-
-
-def _source_mutation(data: bytes, rng: np.random.Generator) -> bytes:
-    """Rewrite a result file's ``robot_source`` with one entry wrong, added, or the whole kind changed."""
-    with np.load(io.BytesIO(data), allow_pickle=False) as f:
-        arrays = {k: f[k] for k in f.files}
-    meta = json.loads(str(arrays["meta"]))
-    source = dict(meta["robot_source"])
-    values = SOURCE_TRICKS + WEIRD
-    key = str(rng.choice([*sorted(source), "extra"]))
-    source[key] = values[int(rng.integers(0, len(values)))]
-    if rng.random() < 0.2:
-        source = {"kind": "module", "spec": str(rng.choice(["os:system", "builtins:print", "x.py:robot"]))}
-    meta["robot_source"] = source
-    arrays["meta"] = np.array(json.dumps(meta))
-    out = io.BytesIO()
-    np.savez(out, **arrays)
-    return out.getvalue()
-
-
-def _text_mutation(data: bytes, rng: np.random.Generator) -> bytes:
-    text = data.decode("utf-8", errors="replace")
-    how = rng.integers(0, 3)
-    if how == 0:
-        lines = text.splitlines()
-        i = int(rng.integers(0, len(lines)))
-        lines[i] = lines[i][: int(rng.integers(0, len(lines[i]) + 1))] + str(
-            WEIRD[int(rng.integers(0, len(WEIRD)))]
-        )
-        return "\n".join(lines).encode()
-    if how == 1:
-        for token in ("0.1", "3", "[", "true", "1e308"):
-            if token in text and rng.random() < 0.5:
-                text = text.replace(
-                    token, str(rng.choice(["-1", "1e999", "NaN", "null", '"x"', "[[", "99999999"])), 1
-                )
-        return text.encode()
-    return _bytes_mutation(data, rng)
-
-
-# -- readers ------------------------------------------------------------------------
-def _read_result(path: Path) -> None:
-    res = gb_pin.load_result(path)
-    res.inverse(res.targets)
-
-
-def _read_checkpoint(path: Path) -> None:
-    from gb_pin.runs.checkpoint import read_checkpoint
-
-    state, info = read_checkpoint(path)
-    if info.movements <= RESUME_LIMIT:
-        gb_pin.resume(path)
-    else:  # a legitimately long run: the compiled loop on the state read, for 100 movements
-        state.run(min(info.movements, state.movements + 100))
-
-
-def _read_journal(path: Path) -> None:
-    gb_pin.run_trials("planar5", trials=2, movements=8, seed=3, checkpoint=path, workers=1)
-
-
-def _read_trials(path: Path) -> None:
-    ts = gb_pin.TrialSet.load(path)
-    ts.quantiles()
-
-
-def _read_preset_file(path: Path) -> None:
-    _read_preset(path.read_text(encoding="utf-8", errors="replace"), path.name)
-
-
-READERS: dict[
-    str, tuple[str, Callable[[Path], None], list[Callable[[bytes, np.random.Generator], bytes]]]
-] = {
-    "result": ("x.npz", _read_result, [_bytes_mutation, _archive_mutation, _archive_mutation]),
-    "checkpoint": ("x.npz", _read_checkpoint, [_bytes_mutation, _archive_mutation, _archive_mutation]),
-    "journal": ("x.jsonl", _read_journal, [_text_mutation]),
-    "trials": ("x.json", _read_trials, [_text_mutation]),
-    "preset": ("x.toml", _read_preset_file, [_text_mutation]),
-    # a URDF robot's result: its robot source is rebuilt, so it is mutated too
-    "result_urdf": ("x.npz", _read_result, [_source_mutation, _source_mutation, _archive_mutation]),
-}
-
-
-def fuzz(probes: int, seed: int, tmp: Path) -> dict[str, Any]:
-    """Run ``probes`` mutated files per reader; count tried / answered (ok or own error) / failed."""
-    originals = _originals(tmp)
-    counts: dict[str, Any] = {}
-    previous = signal.signal(signal.SIGALRM, _alarm)
+def _in_child(probe: Probe, tmp: Path, write_fd: int) -> None:
+    """The forked child: run the probe under an alarm and a memory limit, report through the pipe."""
+    report: dict[str, Any] = {"start_kb": _resident() // 1024}
     try:
-        for k, (kind, (name, read, mutations)) in enumerate(READERS.items()):
-            counts[kind] = _fuzz_reader(kind, originals[kind], tmp / name, read, mutations, (seed, k, probes))
+        log = os.open(tmp / "probe.log", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        os.dup2(log, 1)
+        os.dup2(log, 2)
+        signal.signal(signal.SIGALRM, _alarm)
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        resource.setrlimit(resource.RLIMIT_AS, (_address_space() + MEMORY_LIMIT, resource.RLIM_INFINITY))
+        signal.alarm(int(probe.seconds))
+        try:
+            probe.run(tmp)
+            report["outcome"] = "ok"
+        finally:
+            signal.alarm(0)
+    except gb_pin.GbPinError as exc:
+        report["outcome"] = "own"
+        report["detail"] = f"{type(exc).__name__}: {str(exc)[:300]}"
+    except ProbeTimeoutError as exc:
+        report["outcome"] = "timeout"
+        report["detail"] = str(exc)
+    except BaseException as exc:
+        report["outcome"] = "raw"
+        report["detail"] = f"{type(exc).__name__}: {str(exc)[:300]} @ {traceback.format_exc()[-400:]}"
+    report["cli_peak_kb"] = fuzz_probes.CLI_PEAK_KB[0]
+    report["own_errors"] = fuzz_probes.OWN_ERRORS[0]
+    try:
+        os.write(write_fd, json.dumps(report).encode())
     finally:
-        signal.alarm(0)
-        signal.signal(signal.SIGALRM, previous)
-    return counts
+        os._exit(0)
 
 
-def _fuzz_reader(
-    kind: str,
-    original: bytes,
-    path: Path,
-    read: Callable[[Path], None],
-    mutations: list[Callable[[bytes, np.random.Generator], bytes]],
-    plan: tuple[int, int, int],
+def run_probe(probe: Probe, tmp: Path) -> dict[str, Any]:
+    """Run one probe in a forked child; its outcome, answered or not, peak memory and time."""
+    tmp.mkdir(parents=True, exist_ok=True)
+    read_fd, write_fd = os.pipe()
+    baseline = _resident()  # (if the child cannot say its own)
+    start = time.perf_counter()
+    pid = os.fork()
+    if pid == 0:
+        os.close(read_fd)
+        _in_child(probe, tmp, write_fd)
+    os.close(write_fd)
+    deadline = time.monotonic() + probe.seconds + HARD_EXTRA
+    while True:
+        done, status, usage = os.wait4(pid, os.WNOHANG)
+        if done:
+            break
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+        time.sleep(0.005)
+    seconds = time.perf_counter() - start
+    with os.fdopen(read_fd, "rb") as fh:
+        raw = fh.read()
+    report = json.loads(raw) if raw else {"outcome": "crash", "detail": f"wait status {status}"}
+    if os.WIFSIGNALED(status):
+        report = {"outcome": "crash", "detail": f"killed by signal {os.WTERMSIG(status)}"}
+    cli = report.get("cli_peak_kb") or 0
+    start_kb = report.get("start_kb", baseline // 1024)  # the child's resident memory when it started
+    peak = cli * 1024 if cli else max(0, (usage.ru_maxrss - start_kb) * 1024)
+    report["peak_mb"] = round(peak / 2**20, 1)
+    report["seconds"] = round(seconds, 3)
+    expected = {"error": ("own",), "ok": ("ok",), "either": ("ok", "own")}[probe.expect]
+    answered = report["outcome"] in expected
+    if answered and report["peak_mb"] > probe.limit_mb:
+        answered = False
+        report["detail"] = f"peak {report['peak_mb']} MB over the probe's {probe.limit_mb} MB"
+    if answered and seconds > probe.seconds:
+        answered = False
+        report["detail"] = f"{seconds:.1f} s, over the probe's {probe.seconds} s"
+    report["answered"] = answered
+    if answered:  # keep the files (and probe.log) of the others only
+        shutil.rmtree(tmp, ignore_errors=True)
+    return report
+
+
+def _tally(counts: dict[str, Any], key: str, probe: Probe, report: dict[str, Any]) -> None:
+    c = counts.setdefault(
+        key,
+        {
+            "tried": 0,
+            "answered": 0,
+            "own_error": 0,
+            "other": 0,
+            "peak_mb": 0.0,
+            "slowest_s": 0.0,
+            "failures": [],
+        },
+    )
+    c["tried"] += 1
+    c["answered" if report["answered"] else "other"] += 1
+    c["own_error"] += report["answered"] and (report["outcome"] == "own" or report.get("own_errors", 0) > 0)
+    c["peak_mb"] = max(c["peak_mb"], report["peak_mb"])
+    c["slowest_s"] = max(c["slowest_s"], report["seconds"])
+    if not report["answered"] and len(c["failures"]) < 5:
+        c["failures"].append(f"{probe.name}: {report['outcome']}: {report.get('detail', '')}"[:600])
+
+
+def fuzz(
+    probes: int, seed: int, tmp: Path, large: bool = False, quick: bool = False, only: str = ""
 ) -> dict[str, Any]:
-    """Probe one reader ``plan[2]`` times; probe i mutates with the generator seeded (seed, reader, i)."""
-    seed, k, probes = plan
-    c: dict[str, Any] = {
-        "tried": 0,
-        "loaded": 0,
-        "own_error": 0,
-        "failed": 0,
-        "slowest_s": 0.0,
-        "failures": [],
-    }
-    for i in range(probes):
-        rng = np.random.default_rng([seed, k, i])
-        mutate = mutations[int(rng.integers(0, len(mutations)))]
-        probe = f"{kind} probe {i} (seed {seed}, {mutate.__name__})"
-        try:
-            path.write_bytes(mutate(original, rng))
-        except Exception:
-            continue
-        c["tried"] += 1
-        start = time.perf_counter()
-        failure = None
-        try:
-            signal.alarm(TIME_LIMIT)
-            try:
-                read(path)
-            finally:
-                signal.alarm(0)
-            c["loaded"] += 1
-        except gb_pin.GbPinError:
-            c["own_error"] += 1
-        except ProbeTimeoutError as exc:
-            failure = f"{probe}: {exc}"
-        except Exception as exc:
-            failure = f"{probe}: {type(exc).__name__}: {exc!s:.200} @ {traceback.format_exc()[-300:]}"
-        c["slowest_s"] = max(c["slowest_s"], round(time.perf_counter() - start, 3))
-        if failure is not None:
-            c["failed"] += 1
-            if len(c["failures"]) < 5:
-                c["failures"].append(failure)
-    return c
+    """Run the mutations and the targeted probes; counts by reader and by class (and each probe)."""
+    ctx = fuzz_probes.CTX
+    ctx.originals = fuzz_mutations.originals(tmp / "originals")
+    ctx.full = fuzz_probes.FullDisk(tmp / "full")
+    ctx.large = large
+    targeted = [p for make in fuzz_probes.REGISTRY for p in make()]
+    plan = [*fuzz_mutations.probes(ctx.originals, probes, seed), *targeted]
+    by_reader: dict[str, Any] = {}
+    by_class: dict[str, Any] = {}
+    reports = []
+    try:
+        for i, probe in enumerate(plan):
+            if (only and only not in probe.klass and only not in probe.reader) or (quick and probe.slow):
+                continue
+            report = run_probe(probe, tmp / "probes" / str(i))
+            suffix = f" ({probe.owner})" if probe.owner else ""
+            _tally(by_reader, probe.reader + suffix, probe, report)
+            _tally(by_class, probe.klass + suffix, probe, report)
+            if probe.klass != "0 mutations":
+                keys = ("answered", "outcome", "peak_mb", "seconds", "detail")
+                reports.append({"probe": probe.name, "class": probe.klass, "owner": probe.owner,
+                                **{k: report.get(k) for k in keys}})  # fmt: skip
+    finally:
+        ctx.full.close()
+    return {"disk": ctx.full.mode, "readers": by_reader, "classes": by_class, "probes": reports}
+
+
+def table(counts: dict[str, Any]) -> str:
+    """The counts as a markdown table."""
+    lines = [
+        "| | tried | answered | of which gb_pin's error | other | peak memory [MB] | slowest [s] |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for key, c in counts.items():
+        cells = (
+            c["tried"],
+            c["answered"],
+            c["own_error"],
+            c["other"],
+            f"{c['peak_mb']:.0f}",
+            f"{c['slowest_s']:.2f}",
+        )
+        lines.append(f"| {key} | " + " | ".join(map(str, cells)) + " |")
+    return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Fuzz under a memory limit and print the counts."""
-    import tempfile
-
+    """Fuzz, print the tables (with --table) and the counts as JSON on the last line."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--probes", type=int, default=200, help="mutated files per reader")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--large", action="store_true", help="large files and real timeouts (minutes)")
+    parser.add_argument("--quick", action="store_true", help="leave out the slow probes (CI)")
+    parser.add_argument("--only", default="", help="run only the probes of this class or reader")
+    parser.add_argument("--table", action="store_true", help="print markdown tables before the JSON")
     args = parser.parse_args(argv)
-    gb_pin.babble("planar5", movements=2, seed=0)  # compile before the limit
-    used = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    with open("/proc/self/statm") as fh:
-        used = max(used, int(fh.read().split()[0]) * resource.getpagesize())
-    resource.setrlimit(resource.RLIMIT_AS, (used + MEMORY_LIMIT, resource.RLIM_INFINITY))
+    fuzz_probes.warm_up()  # compile and import before the first fork
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(143))  # unmount the tmpfs on the way out
     with tempfile.TemporaryDirectory() as tmp:
-        counts = fuzz(args.probes, args.seed, Path(tmp))
+        counts = fuzz(args.probes, args.seed, Path(tmp), args.large, args.quick and not args.large, args.only)
+    if args.table:
+        print(
+            f"disk full: {counts['disk']}\n\n" + table(counts["readers"]) + "\n\n" + table(counts["classes"])
+        )
+        for p in counts["probes"]:
+            status = "ok   " if p["answered"] else "OTHER"
+            detail = "" if p["answered"] else str(p["detail"])[:300]
+            size = f"{p['peak_mb']:>7.1f} MB {p['seconds']:>6.2f} s"
+            print(f"{status} {p['class']:<22} {p['probe']:<72} {size} {detail}")
     print(json.dumps(counts))
-    return 1 if any(c["failed"] for c in counts.values()) else 0
+    owned = [c for k, c in counts["readers"].items() if "(" not in k]
+    return 1 if any(c["other"] for c in owned) else 0
 
 
 if __name__ == "__main__":

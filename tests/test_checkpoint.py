@@ -90,7 +90,9 @@ def test_checkpoint_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPa
         raise OSError("disk died")
 
     monkeypatch.setattr(os, "replace", failing_replace)
-    with pytest.raises(OSError, match="disk died"):
+    monkeypatch.chdir(tmp_path)  # where a fallback checkpoint would go (it fails too)
+    # Every write fails: the run goes on (its result is not lost), saying so at each checkpoint.
+    with pytest.warns(gb_pin.GbPinWarning, match="disk died.*nor anywhere else"):
         gb_pin.babble("planar3", movements=10, seed=1, checkpoint=path, checkpoint_every=5)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run.ckpt"]

@@ -393,7 +393,7 @@ def test_workers_exit_when_their_parent_dies(tmp_path: Path) -> None:
     script.write_text(
         "import os, sys, time\n"
         "from concurrent.futures import ProcessPoolExecutor\n"
-        "from gb_pin.experiments.execute import watch_parent\n"
+        "from gb_pin.experiments.pool import watch_parent\n"
         "def work():\n    time.sleep(300)\n"
         "if __name__ == '__main__':\n"
         "    pool = ProcessPoolExecutor(1, initializer=watch_parent, initargs=(os.getpid(),))\n"

@@ -75,7 +75,17 @@ def _main(argv: Sequence[str] | None) -> tuple[int, argparse.Namespace | None]:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0, None
     except KeyboardInterrupt as exc:
-        print(f"gb-pin: {exc or 'interrupted'}", file=sys.stderr)
+        print(f"gb-pin: {str(exc) or _interrupted(args)}", file=sys.stderr)
         return 130, None
+    except OSError as exc:  # the machine's, not the user's: a disk full or removed after every fallback
+        print(f"gb-pin: error: {exc}", file=sys.stderr)
+        return 1, args
     finally:
         warnings.showwarning = previous
+
+
+def _interrupted(args: argparse.Namespace) -> str:
+    """What Ctrl-C stopped, when the command had nothing more to say."""
+    if args.command == "babble" and args.checkpoint is None and args.resume is None:
+        return "interrupted (Ctrl-C); nothing was saved (--checkpoint FILE makes a run resumable)"
+    return f"interrupted (Ctrl-C) during gb-pin {args.command}"

@@ -332,18 +332,21 @@ def _print_summary(
     The time per step is this session's: its babbling time over the steps it ran (after ``--resume``,
     ``before`` holds the steps and seconds of the checkpoint's sessions, which are not counted).
     """
-    e0 = result.history.error[0]
+    from gb_pin._names import printable
+    from gb_pin.learn.history import versus_initial
+
+    e0 = versus_initial(result.error, result.history.initial_error)
     axes = getattr(result.target, "axes", None) or f"{result.target.n_task} dimensions"
-    print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {axes})")
+    print(f"robot            {printable(args.robot)} ({result.target.n_joints} joints, task axes {axes})")
     seed = "continued" if args.continue_from else args.seed
     print(f"movements        {result.movements} ({result.steps} steps), seed {seed}")
-    print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
+    print(f"E^X              {result.error:.5f} m   ({e0})")
     if getattr(getattr(result.target, "chain", None), "components", None) is not None:  # docs/TASKS.md
         from gb_pin.learn.component_metrics import task_errors
 
         errors = task_errors(result.model, result.target, result.targets)
         for line in errors.summary(getattr(result.target, "component_labels", None)).splitlines():
-            print(f"  {line}")
+            print(f"  {printable(line, 400)}")  # labels name the model's frames
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
     if result.missing:

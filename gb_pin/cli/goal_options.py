@@ -2,22 +2,19 @@
 
 ``--goals NAME[:key=value,...]`` picks a goal generator (:mod:`gb_pin.learn.goals`);
 ``--targets FILE`` and ``--eval-targets FILE`` read point sets from ``.csv`` (one point per
-row) or ``.npy`` files; ``--until-error E`` stops a run once E^X <= E.
+row) or ``.npy`` files (:func:`gb_pin._points.read_points`, in bounds); ``--until-error E`` stops a
+run once E^X <= E.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from gb_pin._points import read_points
 from gb_pin.exceptions import InvalidArgumentError
-
-MAX_POINTS = 10**6  # the largest point set a file may hold
-MAX_FILE_BYTES = 256 * 2**20
 
 
 def add_goal_options(parser: argparse.ArgumentParser, *, until: bool = True) -> None:
@@ -68,41 +65,4 @@ def goal_values(args: argparse.Namespace, *, as_lists: bool = False) -> dict[str
         if not (np.isfinite(until) and until > 0):
             raise InvalidArgumentError(f"--until-error must be a level > 0 [m], got {until!r}")
         out["until_error"] = until
-    return out
-
-
-def read_points(path: str | os.PathLike[str], what: str = "points") -> NDArray[np.float64]:
-    """An (N, n) point set from a ``.csv`` (comma-separated, ``#`` comments) or ``.npy`` file.
-
-    Raises:
-        InvalidArgumentError: missing, too large, not numeric, not 2-D or not finite.
-    """
-    name = os.fspath(path)
-    try:
-        size = os.path.getsize(name)
-    except OSError as exc:
-        raise InvalidArgumentError(f"{what} {name!r}: cannot read it ({exc.strerror})") from exc
-    if size > MAX_FILE_BYTES:
-        raise InvalidArgumentError(f"{what} {name!r}: {size} bytes, at most {MAX_FILE_BYTES} accepted")
-    try:
-        if name.lower().endswith(".npy"):
-            arr = np.load(name, allow_pickle=False)
-        elif name.lower().endswith((".csv", ".txt")):
-            arr = np.loadtxt(name, delimiter=",", ndmin=2, dtype=np.float64)
-        else:
-            raise InvalidArgumentError(f"{what} {name!r}: expected a .csv or .npy file")
-    except InvalidArgumentError:
-        raise
-    except (OSError, ValueError, EOFError) as exc:
-        raise InvalidArgumentError(
-            f"{what} {name!r}: not a numeric point set ({type(exc).__name__})"
-        ) from exc
-    if arr.dtype.kind not in "fiu" or arr.ndim != 2 or not 0 < arr.shape[0] <= MAX_POINTS or arr.shape[1] < 1:
-        raise InvalidArgumentError(
-            f"{what} {name!r}: expected (N, n) numbers with 1 <= N <= {MAX_POINTS}, "
-            f"got {arr.dtype} {arr.shape}"
-        )
-    out = np.ascontiguousarray(arr, dtype=np.float64)
-    if not np.all(np.isfinite(out)):
-        raise InvalidArgumentError(f"{what} {name!r}: holds NaN or infinite values")
     return out

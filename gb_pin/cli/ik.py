@@ -4,13 +4,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from typing import TYPE_CHECKING
 
 from gb_pin.cli.options import add_model_options, result_robot
 
 if TYPE_CHECKING:
+    from collections.abc import Iterator
+
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
     from gb_pin.cli.options import Subparsers
     from gb_pin.ik.solution import IKSolution
 
@@ -62,52 +66,27 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     s.set_defaults(func=run)
 
 
-def _number(text: str, where: str) -> float:
-    from gb_pin.exceptions import InvalidArgumentError
+def read_targets_csv(path: str, axes: str | int) -> NDArray[np.float64]:
+    """The targets of a file: one per line, ``len(axes)`` (or ``axes``) comma-separated numbers [m]; or .npy.
 
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise InvalidArgumentError(f"{where}: {text.strip()!r} is not a finite number")
-    return value
-
-
-def read_targets_csv(path: str, axes: str | int) -> list[list[float]]:
-    """The targets of a CSV file: one per line, ``len(axes)`` (or ``axes``) comma-separated numbers.
+    Read in bounds by the point-file reader of babble's ``--targets`` (:func:`gb_pin._points.read_points`).
 
     Raises:
-        InvalidArgumentError: the file cannot be read, or a line is malformed.
+        InvalidArgumentError: the file cannot be read, is too large, or a line is malformed.
     """
+    from gb_pin._points import read_points
     from gb_pin.exceptions import InvalidArgumentError
 
-    try:
-        with open(path, encoding="utf-8") as f:
-            lines = f.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidArgumentError(f"--targets: cannot read {path!r} ({exc})") from exc
-    if isinstance(axes, int):  # a task vector without axis names: n numbers per line
-        axes = "?" * axes
-    rows: list[list[float]] = []
-    for number, line in enumerate(lines, start=1):
-        fields = [f.strip() for f in line.split(",")]
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        if not rows and [f.lower() for f in fields] == list(axes):
-            continue  # a header naming the axes
-        if len(fields) != len(axes):
-            raise InvalidArgumentError(
-                f"{path}:{number}: expected {len(axes)} comma-separated coordinates (axes {axes!r}), "
-                f"got {line.strip()!r}"
-            )
-        rows.append([_number(f, f"{path}:{number}") for f in fields])
-    if not rows:
-        raise InvalidArgumentError(f"{path}: no targets (one per line, {len(axes)} coordinates)")
-    return rows
+    points = read_points(path, "--targets", axes=axes if isinstance(axes, str) else None)
+    if isinstance(axes, int) and points.shape[1] != axes:  # a task vector without axis names
+        raise InvalidArgumentError(
+            f"--targets {path!r}: expected {axes} numbers per line (the task vector), got {points.shape[1]}"
+        )
+    return points
 
 
-def _targets(args: argparse.Namespace, axes: str | int, name: str) -> list[list[float]]:
+def _targets(args: argparse.Namespace, axes: str | int, name: str) -> ArrayLike:
+    from gb_pin._points import finite_number
     from gb_pin.exceptions import InvalidArgumentError
 
     if args.targets is not None and args.coordinates:
@@ -121,7 +100,7 @@ def _targets(args: argparse.Namespace, axes: str | int, name: str) -> list[list[
             f"expected {count} coordinates ({what}), got {len(args.coordinates)}: "
             f"{' '.join(args.coordinates) or 'none'} (or give --targets FILE)"
         )
-    return [[_number(c, "coordinate") for c in args.coordinates]]
+    return [[finite_number(c, "coordinate") for c in args.coordinates]]
 
 
 def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) -> str:
@@ -129,18 +108,20 @@ def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) ->
     return json.dumps({**head, "solutions": sol.records()}, indent=1)
 
 
-def _as_text(sol: IKSolution, joints: tuple[str, ...]) -> str:
-    lines = ["joints: " + " ".join(joints)]
+def _as_text(sol: IKSolution, joints: tuple[str, ...]) -> Iterator[str]:
+    """The solutions as lines of text (one per target, then the summary), made one at a time."""
+    from gb_pin._names import listing
+
+    yield "joints: " + listing(joints, " ")  # names from a URDF: printable
     for r in range(len(sol)):
         target = " ".join(f"{v:.4f}" for v in sol.targets[r])
         posture = " ".join(f"{v:+.4f}" for v in sol.postures[r])
         status = "ok" if sol.success[r] else "NOT REACHED"
-        lines.append(
+        yield (
             f"[{target}] -> q [{posture}]  residual {sol.residuals[r]:.2e} m, "
             f"{int(sol.iterations[r])} iterations, {status}"
         )
-    lines.append(sol.summary())
-    return "\n".join(lines)
+    yield sol.summary()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -164,7 +145,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(_as_json(sol, target.name, target.joints, target.axes))
     else:
-        print(_as_text(sol, target.joints))
+        for line in _as_text(sol, target.joints):  # line by line: 10^6 targets print in bounded memory
+            print(line)
     if not sol.success.all():
         print(f"gb-pin: {int((~sol.success).sum())} target(s) not reached to {sol.tol:g} m", file=sys.stderr)
         return 1

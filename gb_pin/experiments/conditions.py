@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -27,6 +28,8 @@ BABBLE_ARGS: tuple[str, ...] = NAMES  # the babble arguments of a trial: the hyp
 GOAL_ARGS: tuple[str, ...] = ("goals", "targets", "eval_targets")  # where goals and E^X come from
 TRIAL_ARGS: tuple[str, ...] = (*BABBLE_ARGS, *GOAL_ARGS)
 SWEEP_FORMAT = "gb_pin.sweep"
+MAX_CONDITIONS = 10**4
+"""The most conditions of one sweep (each is validated by a one-movement run before any trial)."""
 
 
 def check_parameters(parameters: Mapping[str, Any], what: str = "babble arguments") -> None:
@@ -165,6 +168,12 @@ def conditions_grid(robot: str | Sequence[str] = "planar5", **parameters: Any) -
     robots = values("robot", robot)
     names = list(parameters)
     lists = [values(n, parameters[n]) for n in names]
+    count = math.prod(len(v) for v in lists) * len(robots)
+    if count > MAX_CONDITIONS:
+        raise InvalidArgumentError(
+            f"the grid has {count} conditions; a sweep has at most {MAX_CONDITIONS} "
+            "(gb_pin.experiments.conditions.MAX_CONDITIONS): split it into several sweeps"
+        )
     return [
         Condition(robot=r, parameters={n: plain(v) for n, v in zip(names, combo, strict=True)})
         for r in robots

@@ -12,10 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-import threading
-import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,9 +20,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.experiments.conditions import Condition, Sweep, check_parameters, conditions_grid, robot_label
+from gb_pin.exceptions import InvalidArgumentError, ResultFileError
+from gb_pin.experiments.conditions import (
+    MAX_CONDITIONS,
+    Condition,
+    Sweep,
+    check_parameters,
+    conditions_grid,
+    robot_label,
+)
 from gb_pin.experiments.journal import TrialJournal, TrialOutput, TrialTask
+from gb_pin.experiments.pool import max_workers, run_pool
 from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
@@ -93,6 +98,10 @@ def run_trial_batch(tasks: list[TrialTask]) -> list[TrialOutput]:
     """Several trials in one Dask task (short trials batched): each is :func:`run_one_trial`."""
     return [run_one_trial(*task) for task in tasks]
 
+
+MAX_TRIALS = 10**5
+"""The most trials of one call (all conditions together): 10^5 trials of 0.1 s are 3 hours of one core;
+a larger study is several calls (each with its journal)."""
 
 # Dask costs about 1 ms per task: trials are batched so that a task runs about 0.1 s.
 # A trial's cost is movements * (joints + 5) (_plan); planar20 at the default path length runs
@@ -187,7 +196,9 @@ def _execute(
     results: list[TrialOutput | None] = [None] * len(tasks)
     if journal is not None:
         for i, task in enumerate(tasks):
-            results[i] = journal.done.get(TrialJournal.key(task))
+            out = journal.done.get(TrialJournal.key(task))
+            if out is not None and out[0].shape == (len(task[3]),):  # a line of another length: recomputed
+                results[i] = out
     bar = None
     if progress:
         from tqdm import tqdm
@@ -223,43 +234,25 @@ def _execute(
             for i in order:
                 done(i, run_one_trial(*tasks[i]))
         else:
-            with ProcessPoolExecutor(
-                max_workers=min(workers or 1, len(todo)), initializer=watch_parent, initargs=(os.getpid(),)
-            ) as pool:
-                futures = {pool.submit(run_one_trial, *tasks[i]): i for i in order}
-                for fut in as_completed(futures):
-                    done(futures[fut], fut.result())
+            run_pool(run_one_trial, tasks, order, min(workers or 1, len(todo)), done)
+    except KeyboardInterrupt as exc:
+        raise KeyboardInterrupt(_interrupted(results, journal, str(exc))) from None
     finally:
         if bar is not None:
             bar.close()
     return [r for r in results if r is not None]
 
 
-PARENT_POLL = 0.5  # [s] between a worker's checks that the process that started it is alive
-
-
-def watch_parent(parent: int) -> None:
-    """In a worker process: exit as soon as ``parent`` (the process running the trials) is gone.
-
-    A daemon thread polls the parent every :data:`PARENT_POLL` seconds, so killing ``gb-pin trials``
-    (even with SIGKILL) does not leave its workers computing for minutes.
-    """
-    started_by = os.getppid()
-
-    def poll() -> None:
-        while True:
-            time.sleep(PARENT_POLL)
-            try:
-                os.kill(parent, 0)
-                alive = os.getppid() == started_by
-            except ProcessLookupError:
-                alive = False
-            except PermissionError:  # the pid was reused by another user's process
-                alive = False
-            if not alive:
-                os._exit(1)
-
-    threading.Thread(target=poll, name="gb_pin-watch-parent", daemon=True).start()
+def _interrupted(results: list[TrialOutput | None], journal: TrialJournal | None, reason: str) -> str:
+    """The one line that says how far the trials got when Ctrl-C stopped them."""
+    finished, total = sum(r is not None for r in results), len(results)
+    head = reason if reason and not reason.isdigit() else "interrupted"
+    if journal is not None and journal.writing is not None:
+        return (
+            f"{head}: {finished} of {total} trials finished, journaled in {journal.writing}; "
+            "run the same command again to compute only the others"
+        )
+    return f"{head}: {finished} of {total} trials finished (a journal, --checkpoint FILE, keeps them)"
 
 
 def _check_executor(workers: int | None, scheduler: Any) -> int | None:
@@ -281,10 +274,15 @@ def _check_executor(workers: int | None, scheduler: Any) -> int | None:
         return None
     if workers is None:
         workers = os.cpu_count() or 1
-    return check.positive_int("workers", workers)
+    return check.positive_int("workers", workers, maximum=max_workers())
 
 
 def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSet:
+    if len({None if o[3] is None else o[3].shape for o in outputs}) > 1:
+        raise ResultFileError(
+            f"{plan.condition.label}: the trial journal holds trials whose E^X per task component has "
+            "another shape than the others' (a tampered line?): remove those lines to recompute them"
+        )
     error = np.array([o[0] for o in outputs])
     return TrialSet(
         robot=robot_label(plan.condition.robot),
@@ -350,7 +348,17 @@ def run_sweep(
     conditions = list(conditions)
     if not conditions:
         raise InvalidArgumentError("a sweep needs at least one condition, got none")
-    trials = check.positive_int("trials", trials)
+    if len(conditions) > MAX_CONDITIONS:
+        raise InvalidArgumentError(
+            f"{len(conditions)} conditions; a sweep has at most {MAX_CONDITIONS} "
+            "(gb_pin.experiments.conditions.MAX_CONDITIONS): split it into several sweeps"
+        )
+    trials = check.positive_int("trials", trials, maximum=MAX_TRIALS)
+    if trials * len(conditions) > MAX_TRIALS:
+        raise InvalidArgumentError(
+            f"{trials} trials x {len(conditions)} conditions = {trials * len(conditions)} trials; a sweep "
+            f"runs at most {MAX_TRIALS} (gb_pin.experiments.execute.MAX_TRIALS): split it into several"
+        )
     movements = check.positive_int("movements", movements)
     seed = check.positive_int("seed", seed, minimum=0)
     workers = _check_executor(workers, scheduler)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin.experiments.robot_bench import update_document
+from gb_pin.experiments.robot_bench import update_document, updated_document
 from gb_pin.ik.api import DEFAULT_BACKTRACKS, DEFAULT_DAMPING, DEFAULT_ERROR_DAMPING, DEFAULT_TOL
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.robot.target import KinematicTarget
@@ -263,6 +263,8 @@ def run(
     progress: Callable[[str], None] | None = None,
 ) -> str:
     """Run the benchmark, return its tables (and write them into ``doc`` between the markers)."""
+    if doc is not None:  # readable, with its markers: checked before the work
+        updated_document(os.fspath(doc), "", begin=BEGIN, end=END)
     start = time.perf_counter()
     solve_rows, robot_rows = run_ik_benchmark(robots, movements, progress=progress)
     tables = format_tables(solve_rows, robot_rows, movements, time.perf_counter() - start)

@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._files import check_writable, write_text
-from gb_pin.exceptions import ResultFileError
-from gb_pin.experiments._json import check_size, plain
+from gb_pin._files import check_writable, write_or_fallback, write_text
+from gb_pin._validation import INT64_MAX
+from gb_pin.exceptions import GbPinWarning, InvalidArgumentError, ResultFileError
+from gb_pin.experiments._json import plain, read_lines
 
 # What one trial needs: (robot, movements, seed, movement counts to record, babble arguments); the
 # robot is a preset name, a MODULE:NAME, or the robot source (a JSON object) of a URDF or
@@ -34,14 +36,22 @@ class TrialJournal:
 
     Each line holds a trial's key (robot, movements, seed, schedule, parameters) and its
     output; lines are flushed and fsynced as trials finish. A crash mid-write leaves at
-    most one incomplete last line, which is ignored. The file can be shared by several
-    sweeps: a trial is reused only if every part of its key matches.
+    most one incomplete last line, which is ignored (as is any line that is not a trial: its
+    trial is recomputed). The file can be shared by several sweeps: a trial is reused only if
+    every part of its key matches. It is read line by line (at most
+    :data:`~gb_pin.experiments._json.MAX_JOURNAL_BYTES`), keeping only the parsed curves.
+
+    If appending fails (the disk is full), the journal moves: every finished trial is written to
+    a fallback file (:func:`gb_pin._files.fallback_paths`, named in a :class:`GbPinWarning`) and
+    later trials are appended there; if no file can be written, the run goes on unjournaled
+    (with a warning), its results intact.
 
     Args:
         path: the journal file (created if missing).
 
     Raises:
-        ResultFileError: the file exists but is not a gb_pin trial journal.
+        ResultFileError: the file exists but is not a gb_pin trial journal (or not a regular file).
+        InvalidArgumentError: the file cannot be created.
     """
 
     HEADER: ClassVar[dict[str, Any]] = {"format": "gb_pin.trial-journal", "format_version": 1}
@@ -49,10 +59,17 @@ class TrialJournal:
     def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = check_writable(path, "trial journal")
         self.done: dict[str, TrialOutput] = {}
-        if os.path.exists(self.path):
+        self.writing: str | None = self.path  # where lines go (a fallback after a failed write)
+        self._newline = False  # the file ends inside a torn line: the next line starts on a new line
+        if os.path.lexists(self.path):
             self._read()
         else:
-            write_text(self.path, json.dumps(self.HEADER) + "\n")
+            try:
+                write_text(self.path, json.dumps(self.HEADER) + "\n")
+            except OSError as exc:
+                raise InvalidArgumentError(
+                    f"trial journal {self.path!r} cannot be created ({exc.strerror or exc})"
+                ) from exc
 
     @staticmethod
     def key(task: TrialTask) -> str:
@@ -70,48 +87,89 @@ class TrialJournal:
         )
 
     def _read(self) -> None:
-        check_size(self.path)
+        lines = read_lines(self.path, "trial journal")
+        first, _ = next(lines, (b"", True))
         try:
-            with open(self.path, encoding="utf-8") as fh:
-                lines = fh.read().split("\n")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise ResultFileError(f"{self.path}: unreadable trial journal ({exc})") from exc
-        try:
-            header = json.loads(lines[0])
+            header = json.loads(first)
         except (ValueError, RecursionError):
             header = None
         if header != self.HEADER:
-            raise ResultFileError(f"{self.path}: not a gb_pin trial journal (first line {lines[0][:80]!r})")
-        complete = []
-        for line in lines[1:]:
+            shown = first[:80].decode("utf-8", "replace").rstrip("\n")
+            raise ResultFileError(f"{self.path}: not a gb_pin trial journal (first line {shown!r})")
+        end = size = len(first)  # bytes up to the end of the last line ending in a newline, and in all
+        parsed = True  # whether the last line is a trial
+        for line, length in lines:
+            size += length
+            if line.endswith(b"\n") or not line:  # not line: an over-long line, skipped
+                end = size
             try:
                 entry = json.loads(line)
                 out = _output(entry)
-            except (ValueError, KeyError, TypeError, RecursionError):
-                continue  # the last line of a run killed mid-write, or a line that is not a trial
+            except (ValueError, KeyError, TypeError, RecursionError, MemoryError):
+                parsed = False  # the last line of a run killed mid-write, or a line that is not a trial
+                continue
+            parsed = True
             self.done[entry["key"]] = out
-            complete.append(line)
-        # Rewrite without a torn line, so that appended lines start on a fresh line.
-        if len(complete) != len([ln for ln in lines[1:] if ln]):
-            write_text(self.path, "\n".join([lines[0], *complete]) + "\n")
+        # A last line without its newline: a torn one (killed mid-write) is cut off, so that the next
+        # trial starts a line of its own; a whole trial (or the header) is kept, and a newline added.
+        self._newline = size != end or not first.endswith(b"\n")
+        if size != end and not parsed and first.endswith(b"\n"):
+            try:
+                os.truncate(self.path, end)
+                self._newline = False
+            except OSError:
+                pass
 
-    def record(self, task: TrialTask, out: TrialOutput) -> None:
-        """Append one finished trial durably (one line, flushed and fsynced)."""
-        k = self.key(task)
-        self.done[k] = out
+    def _line(self, key: str, out: TrialOutput) -> str:
         entry = {
-            "key": k,
+            "key": key,
             "error": out[0].tolist(),
             "home_distance": out[1].tolist(),
             "prototypes": int(out[2]),
         }
         if out[3] is not None:
             entry["components"] = out[3].tolist()
-        line = json.dumps(entry)
-        with open(self.path, "a", encoding="utf-8") as fh:
-            fh.write(line + "\n")
-            fh.flush()
-            os.fsync(fh.fileno())
+        return json.dumps(entry)
+
+    def record(self, task: TrialTask, out: TrialOutput) -> None:
+        """Append one finished trial durably (one line, flushed and fsynced); move the journal if it fails."""
+        k = self.key(task)
+        self.done[k] = out
+        if self.writing is None:
+            return
+        line = self._line(k, out)
+        try:
+            with open(self.writing, "a", encoding="utf-8") as fh:
+                fh.write(("\n" if self._newline else "") + line + "\n")
+                fh.flush()
+                os.fsync(fh.fileno())
+            self._newline = False
+        except OSError as exc:
+            self._move(exc)
+
+    def _move(self, exc: OSError) -> None:
+        """After a failed append: write every finished trial to a fallback file and continue there."""
+        failed = self.writing
+        lines = [json.dumps(self.HEADER), *(self._line(k, o) for k, o in self.done.items())]
+        try:
+            where = write_or_fallback(failed or self.path, lambda p: write_text(p, "\n".join(lines) + "\n"))
+        except OSError as again:
+            self.writing = None
+            warnings.warn(
+                f"cannot append to the trial journal {failed!r} ({exc.strerror or exc}) nor write it "
+                f"elsewhere ({again}); the trials go on, no longer journaled",
+                GbPinWarning,
+                stacklevel=3,
+            )
+            return
+        self.writing, self._newline = where, False
+        warnings.warn(
+            f"cannot append to the trial journal {failed!r} ({exc.strerror or exc}); its "
+            f"{len(self.done)} finished trials are in {where!r}, and the next ones will be "
+            f"(rerun with --checkpoint {where} / checkpoint={where!r} to continue)",
+            GbPinWarning,
+            stacklevel=3,
+        )
 
 
 def _output(entry: Any) -> TrialOutput:
@@ -131,10 +189,10 @@ def _output(entry: Any) -> TrialOutput:
             raise ValueError(f"{name} is not a list of numbers")
         curves.append(np.array([np.nan if v is None else v for v in values], dtype=float))
     prototypes = entry["prototypes"]
-    if isinstance(prototypes, bool) or not isinstance(prototypes, int) or prototypes < 1:
+    if isinstance(prototypes, bool) or not isinstance(prototypes, int) or not 1 <= prototypes <= INT64_MAX:
         raise ValueError("prototypes is not a count")
-    if curves[0].shape != curves[1].shape or np.any(np.isinf(curves[0])) or np.any(np.isinf(curves[1])):
-        raise ValueError("curves of different lengths or infinite")
+    if curves[0].shape != curves[1].shape or any(np.any(np.isinf(c) | (c < 0)) for c in curves):
+        raise ValueError("curves of different lengths, infinite or negative")
     components = None
     if entry.get("components") is not None:  # journals written before per-component curves have none
         rows = entry["components"]
@@ -144,6 +202,10 @@ def _output(entry: Any) -> TrialOutput:
         if not all(v is None or (isinstance(v, int | float) and not isinstance(v, bool)) for v in flat):
             raise ValueError("components is not a table of numbers")
         components = np.array([[np.nan if v is None else v for v in row] for row in rows], dtype=float)
-        if components.ndim != 2 or not 1 <= components.shape[1] <= 64 or np.any(np.isinf(components)):
+        if (
+            components.ndim != 2
+            or not 1 <= components.shape[1] <= 64
+            or np.any(np.isinf(components) | (components < 0))
+        ):
             raise ValueError("components is not a (T, C) table of finite numbers")
     return curves[0], curves[1], prototypes, components

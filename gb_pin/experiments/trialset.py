@@ -15,6 +15,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import check_writable, write_json
+from gb_pin._names import printable
+from gb_pin._validation import INT64_MAX, MAX_MOVEMENTS
 from gb_pin.exceptions import InvalidArgumentError, ResultFileError
 from gb_pin.experiments._json import read_json
 from gb_pin.learn.metrics import speed
@@ -129,8 +131,8 @@ class TrialSet:
                 if raw.get("components") is None
                 else np.array(raw["components"], dtype=float),
             )
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ResultFileError(f"{source}: malformed trials file ({exc!r})") from exc
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:
+            raise ResultFileError(f"{source}: malformed trials file ({str(exc)[:120]})") from exc
         trials, points = out.error.shape
         if (
             out.error.shape != out.home_distance.shape
@@ -144,12 +146,9 @@ class TrialSet:
             raise ResultFileError(f"{source}: arrays of inconsistent shapes")
         if out.movements.size and (out.movements[0] < 0 or np.any(np.diff(out.movements) <= 0)):
             raise ResultFileError(f"{source}: movements must be increasing counts >= 0")
-        if (
-            np.any(np.isinf(out.error))
-            or np.any(np.isinf(out.home_distance))
-            or (out.components is not None and np.any(np.isinf(out.components)))
-        ):
-            raise ResultFileError(f"{source}: infinite E^X or D^home")
+        curves = (out.error, out.home_distance, *(() if out.components is None else (out.components,)))
+        if any(np.any(np.isinf(c) | (c < 0)) for c in curves):
+            raise ResultFileError(f"{source}: infinite or negative E^X or D^home (a distance is >= 0)")
         return out
 
     def plot(self, path: str | os.PathLike[str] | None = None, ax: Any = None) -> Any:
@@ -172,7 +171,7 @@ class TrialSet:
         )
         final = float(np.median(self.error[:, -1]))
         title = (
-            f"{self.robot}: {self.trials} trials of {int(self.movements[-1])} movements"
+            f"{printable(self.robot, 80)}: {self.trials} trials of {int(self.movements[-1])} movements"
             + (f" ({params})" if params else "")
             + f", median final $E^X$ = {final:.4g} m"
         )
@@ -214,7 +213,21 @@ def _check_fields(raw: dict[str, Any], source: str) -> None:
     }
     for key in ("movements", "error", "home_distance", "prototypes"):
         problems[key] = not isinstance(raw.get(key), list)
+    for key, top in (("movements", MAX_MOVEMENTS), ("prototypes", INT64_MAX)):  # whole counts, in int64
+        found = raw.get(key)
+        values: list[Any] = found if isinstance(found, list) else []
+        problems[key] = problems[key] or not all(
+            isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= top for v in values
+        )
+    for key in ("error", "home_distance"):  # (trials, T) numbers (NaN: not measured), no text
+        problems[key] = problems[key] or not all(
+            isinstance(row, list) and all(_is_number(v) for v in row) for row in raw[key]
+        )
     problems["components"] = raw.get("components") is not None and not isinstance(raw["components"], list)
     wrong = [k for k, bad in problems.items() if bad]
     if wrong:
         raise ResultFileError(f"{source}: malformed trials file (bad {', '.join(wrong)})")
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)

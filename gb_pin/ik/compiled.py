@@ -14,6 +14,7 @@ from typing import Any
 
 __all__ = ["NO_REFCOUNT"]
 
+
 def _no_refcount() -> dict[str, Any]:
     """``{"_nrt": False}`` where this numba has the option (a private one), else nothing (counted, slower)."""
     try:

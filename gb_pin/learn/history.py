@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,6 +36,12 @@ class History:
     components: NDArray[np.float64] | None = None
     reach: NDArray[np.float64] | None = None
 
+    @property
+    def initial_error(self) -> float:
+        """E_0: E^X at movement 0, of the constant estimate q_home [m]; NaN if movement 0 was not recorded."""
+        idx = np.flatnonzero(self.movements == 0)
+        return float(self.error[idx[0]]) if idx.size else math.nan
+
     def at(self, movements: int) -> tuple[float, float]:
         """(E^X, D^home) at a recorded movement count."""
         idx = np.flatnonzero(self.movements == movements)
@@ -44,6 +51,19 @@ class History:
                 f"{self.movements[0]}..{self.movements[-1]} (see History.movements)"
             )
         return float(self.error[idx[0]]), float(self.home_distance[idx[0]])
+
+
+def versus_initial(error: float, initial: float) -> str:
+    """E^X against E_0 for a summary: ``"E_0 = 0.3922 m, 1.5% of E_0"``, or why there is no ratio.
+
+    E_0 is 0 when home reaches every target (then any E^X is infinitely many E_0), and NaN when
+    movement 0 was not recorded.
+    """
+    if math.isnan(initial):
+        return "E_0 not recorded: the schedule has no movement 0"
+    if initial <= 0.0:
+        return "E_0 = 0 m: home reaches every target, no ratio to E_0"
+    return f"E_0 = {initial:.4f} m, {error / initial:.1%} of E_0"
 
 
 @dataclass(frozen=True)

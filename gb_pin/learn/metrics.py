@@ -69,6 +69,10 @@ def evaluate_model(targets, limits, body, lm, K, q, x, components):  # type: ign
     return error / count, distance / count
 
 
+MAX_SCHEDULE = 10**7
+"""The most entries of an evaluation schedule built by :func:`evaluation_schedule` (80 MB)."""
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def reach_median(ring, count):  # type: ignore[no-untyped-def]
     """The median of the last min(count, W) reach errors of the ring (W,) [m]; NaN before any.
@@ -96,9 +100,9 @@ def evaluation_schedule(movements: int, dense_until: int = 1000, per_decade: int
         dense_until: last movement count recorded after every movement.
         per_decade: log-spaced points per factor of 10 beyond ``dense_until``.
     """
-    movements = check.positive_int("movements", movements)
-    dense_until = check.positive_int("dense_until", dense_until, minimum=0)
-    per_decade = check.positive_int("per_decade", per_decade)
+    movements = check.movements("movements", movements, minimum=1)
+    dense_until = check.positive_int("dense_until", dense_until, minimum=0, maximum=MAX_SCHEDULE)
+    per_decade = check.positive_int("per_decade", per_decade, maximum=MAX_SCHEDULE // 12)
     dense = np.arange(0, min(movements, dense_until) + 1, dtype=np.int64)
     if movements <= dense_until:
         return dense

@@ -161,6 +161,9 @@ def _fill(
     st.components = (
         _real(arrays, "components", (T, C), finite=False) if "components" in arrays else fresh_components
     )
+    for name, values in (("errors", st.errors), ("distances", st.distances), ("components", st.components)):
+        if np.any(np.isinf(values) | (values < 0)):  # distances: NaN (not measured yet) or finite >= 0
+            raise InvalidArgumentError(f"{name} must be distances >= 0 or NaN")
     K = np.shape(arrays["prototypes"])[0] if np.ndim(arrays["prototypes"]) == 2 else 0
     st.llm = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate, capacity=max(2 * K, 256))
     if st.llm.n_inputs_ != n or st.llm.n_outputs_ != m:

@@ -178,7 +178,7 @@ class BabbleState:
                 "body changes need robots with a compiled chain (not a Python forward model)"
             )
         for at, robot in sorted(dict(changes).items()):
-            at = check.positive_int("changes movement", at)
+            at = check.movements("changes movement", at, minimum=1)
             chain = getattr(robot, "chain", robot)
             if not isinstance(chain, KinematicChain):
                 raise InvalidArgumentError(
@@ -357,6 +357,14 @@ class BabbleState:
 
     def _diverged(self) -> None:
         cfg = self.config
+        x, q = self.vectors["x_prev"], self.vectors["q_prev"]
+        if not np.all(np.isfinite(x)):  # the learner learned from a non-finite observation
+            raise DivergenceError(
+                f"the forward model returned the non-finite position {np.array2string(x)} for the posture "
+                f"{np.array2string(q, precision=4)} (movement {self.movements}, step {self.steps}): the "
+                "robot's forward kinematics (its forward function or compiled kernel) is the cause, not "
+                "the learner; it must return finite positions for every posture within the joint limits"
+            )
         reach = float(np.max(np.abs(self.targets)))
         raise DivergenceError(
             f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from gb_pin._files import write_text
+from gb_pin._files import save_or_fallback, write_text
 from gb_pin.exceptions import ResultFileError
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.reproduce.conditions import Settings
@@ -103,6 +103,6 @@ def collect(
             progress=progress,
         )
         for c, ts in sweep:
-            ts.save(cache_path(settings.out, c, settings))
+            save_or_fallback(cache_path(settings.out, c, settings), ts.save, "the trials")  # never lost
             found[c] = ts
     return found

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._files import write_text
+from gb_pin._files import save_or_fallback, write_text
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.experiments.conditions import robot_label
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
@@ -143,7 +143,7 @@ def run_condition(
             return ts
     os.makedirs(os.path.dirname(path), exist_ok=True)
     ts = run_sweep([cond], trials=trials, seed=seed, workers=workers, progress=progress).results[0]
-    ts.save(path)
+    save_or_fallback(path, ts.save, "the trials")  # computed at length: never lost to a failed write
     return ts
 
 

@@ -13,6 +13,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from gb_pin._files import write_text
+from gb_pin.exceptions import ResultFileError
+from gb_pin.experiments._json import read_json
 from gb_pin.experiments.trials import TrialSet
 from gb_pin.reproduce.conditions import QUANTILES
 from gb_pin.reproduce.paper import PAPER
@@ -55,9 +57,9 @@ def read_numbers(path: str) -> dict[str, Any]:
     if not os.path.exists(path):
         return {}
     try:
-        with open(path, encoding="utf-8") as fh:
-            return dict(json.load(fh).get("numbers", {}))
-    except (OSError, ValueError, AttributeError):
+        numbers = read_json(path).get("numbers", {})  # a regular file, in bounds
+        return dict(numbers) if isinstance(numbers, dict) else {}
+    except (ResultFileError, AttributeError):
         return {}
 
 

@@ -56,7 +56,7 @@ def joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float], 
     if suffix in ("PX", "PY", "PZ"):
         return PRISMATIC, _UNIT[suffix[1]], False
     if suffix in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned", "PrismaticUnaligned"):
-        axis = np.asarray(joint.extract().axis, dtype=float)
+        axis = _unaligned_axis(joint, suffix.startswith("Prismatic"))
         if abs(np.linalg.norm(axis) - 1.0) > 1e-9:
             raise InvalidArgumentError(
                 f"joint {name!r} has axis {axis.tolist()} of norm {np.linalg.norm(axis):.6g}; "
@@ -74,6 +74,23 @@ def joint_kind(joint: Any, name: str) -> tuple[int, tuple[float, float, float], 
         f"joint {name!r} is a {short}; the learner moves only revolute, continuous and "
         "prismatic joints: lock it (leave it out of `joints`)"
     )
+
+
+def _unaligned_axis(joint: Any, prismatic: bool) -> NDArray[np.float64]:
+    """The axis of an unaligned 1-DOF joint, in its frame.
+
+    Pinocchio's Python bindings expose ``axis`` on some unaligned joint models but not on
+    ``JointModelRevoluteUnboundedUnaligned`` (a URDF's continuous joint about an axis other than x,
+    y or z); its motion subspace S (constant for these joints) holds it: the angular part for a
+    revolute joint, the linear part for a prismatic one.
+    """
+    model = joint.extract()
+    if hasattr(model, "axis"):
+        return np.asarray(model.axis, dtype=float)
+    data = joint.createData()
+    joint.calc(data, np.array([1.0, 0.0]) if joint.nq == 2 else np.zeros(joint.nq))  # (cos, sin) = angle 0
+    S = np.asarray(data.S, dtype=float).reshape(6)
+    return S[:3] if prismatic else S[3:]
 
 
 def parse_axes(axes: str | None) -> str:

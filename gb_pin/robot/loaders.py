@@ -47,7 +47,7 @@ class ModelLoaders:
         name: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
         onboard: bool = True,
     ) -> Self:
         """A target from a URDF file (kinematics only: no mesh is loaded).
@@ -109,7 +109,7 @@ class ModelLoaders:
         label: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
         onboard: bool = True,
     ) -> Self:
         """A target from a robot of the example-robot-data package (e.g. ``"talos"``, ``"panda"``).

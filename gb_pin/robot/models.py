@@ -23,6 +23,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from gb_pin._names import closest
+from gb_pin._reading import open_regular, read_bytes
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
 
 _SHARE = ("share", "example-robot-data", "robots")
@@ -264,20 +265,14 @@ MAX_URDF_ELEMENTS = 1000
 recurses along the tree and crashes the interpreter on chains of a few thousand links)."""
 
 
-def check_urdf_size(urdf: Path) -> None:
-    """Refuse a URDF file too big for pinocchio's parser, before the parser sees it.
+def check_urdf_size(urdf: Path) -> bytes:
+    """Read a URDF file in bounds, refusing one too big for pinocchio's parser; return its bytes.
 
     Raises:
-        InvalidArgumentError: over :data:`MAX_URDF_BYTES` bytes, or over :data:`MAX_URDF_ELEMENTS`
-            links or joints.
+        InvalidArgumentError: missing, not a regular file, over :data:`MAX_URDF_BYTES` bytes, or
+            over :data:`MAX_URDF_ELEMENTS` links or joints.
     """
-    size = urdf.stat().st_size
-    if size > MAX_URDF_BYTES:
-        raise InvalidArgumentError(
-            f"URDF file {str(urdf)!r} has {size} bytes; gb_pin reads at most {MAX_URDF_BYTES} "
-            "(gb_pin.robot.models.MAX_URDF_BYTES)"
-        )
-    text = urdf.read_bytes()
+    text = read_bytes(urdf, f"URDF file {str(urdf)!r}", "URDF file", MAX_URDF_BYTES, InvalidArgumentError)
     for tag in (b"link", b"joint"):
         count = len(re.findall(rb"<\s*" + tag + rb"[\s/>]", text))
         if count > MAX_URDF_ELEMENTS:
@@ -285,6 +280,7 @@ def check_urdf_size(urdf: Path) -> None:
                 f"URDF file {str(urdf)!r} has {count} <{tag.decode()}> elements; gb_pin reads at most "
                 f"{MAX_URDF_ELEMENTS} (gb_pin.robot.models.MAX_URDF_ELEMENTS)"
             )
+    return text
 
 
 def load_urdf_model(
@@ -295,6 +291,9 @@ def load_urdf_model(
 ) -> pin.Model:
     """Build the kinematic model of a URDF file (no geometry), with the SRDF's reference configurations.
 
+    The files are read once, in bounds (regular files only, :func:`check_urdf_size`), and
+    pinocchio parses the text read (the same model as from the path, tested).
+
     Args:
         path: the URDF file.
         srdf: an SRDF file whose ``group_state`` entries become the model's
@@ -302,30 +301,44 @@ def load_urdf_model(
         floating_base: add a free-flyer root joint (for mobile robots).
 
     Raises:
-        InvalidArgumentError: missing, malformed or too large (:func:`check_urdf_size`) URDF or SRDF.
+        InvalidArgumentError: missing, malformed, not a regular file or too large
+            (:func:`check_urdf_size`) URDF or SRDF.
     """
     urdf = Path(os.fspath(path))
-    if not urdf.is_file():
+    if not urdf.exists():
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} does not exist")
-    check_urdf_size(urdf)
+    text = _xml_text(check_urdf_size(urdf))
     try:
-        if floating_base:
-            model = pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer())
-        else:
-            model = pin.buildModelFromUrdf(str(urdf))
+        root = [pin.JointModelFreeFlyer()] if floating_base else []
+        model = pin.buildModelFromXML(text, *root)
     except (ValueError, RuntimeError, IndexError) as exc:
-        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {exc}") from exc
+        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {str(exc)[:300]}") from exc
     if model.njoints <= 1:
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} describes no joint: nothing to move")
     if srdf is not None:
         srdf_path = Path(os.fspath(srdf))
-        if not srdf_path.is_file():
+        if not srdf_path.exists():
             raise InvalidArgumentError(f"SRDF file {str(srdf_path)!r} does not exist")
+        label = f"SRDF file {str(srdf_path)!r}"
+        xml = _xml_text(read_bytes(srdf_path, label, "SRDF file", MAX_URDF_BYTES, InvalidArgumentError))
         try:
-            pin.loadReferenceConfigurations(model, str(srdf_path), False)
+            pin.loadReferenceConfigurationsFromXML(model, xml, False)
         except (ValueError, RuntimeError, IndexError) as exc:
-            raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {exc}") from exc
+            raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
     return model
+
+
+def _xml_text(data: bytes) -> str:
+    """An XML file's bytes as text: UTF-8, else Latin-1 (every byte a character).
+
+    Pinocchio reads the text it is given; a file that is not UTF-8 (a Latin-1 URDF, or a corrupted
+    one) read by pinocchio itself gave names that Python could not decode (UnicodeDecodeError at
+    the first ``model.names``).
+    """
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
 
 
 def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:
@@ -365,7 +378,39 @@ def build_visual_model(
         GbPinError: the meshes cannot be loaded.
     """
     dirs = package_dirs_for(urdf) if package_dirs is None else list(package_dirs)
+    check_meshes(Path(os.fspath(urdf)), dirs)
     try:
         return pin.buildGeomFromUrdf(model, os.fspath(urdf), pin.GeometryType.VISUAL, package_dirs=dirs)
     except (ValueError, RuntimeError, IndexError) as exc:
         raise GbPinError(f"cannot load the visual meshes of {os.fspath(urdf)!r}: {exc}") from exc
+
+
+MAX_MESH_BYTES = 256 * 2**20
+"""The largest mesh file a URDF may name (example-robot-data's largest is a few MiB)."""
+
+
+def check_meshes(urdf: Path, package_dirs: list[str]) -> None:
+    """Refuse mesh files that pinocchio's loader would block on or exhaust memory with, before it runs.
+
+    Every ``<mesh filename=...>`` of the URDF that resolves to an existing path (``package://``
+    through ``package_dirs``, ``file://``, absolute, or relative to the URDF) must be a regular file
+    of at most :data:`MAX_MESH_BYTES`: a FIFO would block the viewer, ``/dev/zero`` never end.
+
+    Raises:
+        GbPinError: naming the mesh and what it is.
+    """
+    text = check_urdf_size(urdf)
+    for raw in re.findall(rb"<\s*mesh\b[^>]*?\bfilename\s*=\s*[\"']([^\"']*)[\"']", text):
+        name = raw.decode("utf-8", "replace")
+        if name.startswith("package://"):
+            rest = name[len("package://") :]
+            candidates = [Path(d) / rest for d in package_dirs]
+        else:
+            path = Path(name.removeprefix("file://"))
+            candidates = [path if path.is_absolute() else urdf.parent / path]
+        for candidate in candidates:
+            if os.path.lexists(candidate):
+                read_check = open_regular(candidate, f"mesh {name[:200]!r} of {str(urdf)!r}", "mesh file",
+                                          MAX_MESH_BYTES, GbPinError)[0]  # fmt: skip
+                read_check.close()
+                break

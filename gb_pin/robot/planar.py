@@ -22,6 +22,9 @@ from gb_pin.robot.chain_reader import AXIS_INDEX, JointTable, parse_axes
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.robot.targets_auto import TargetSpec
 
+MAX_CHAIN_JOINTS = 10**4
+"""The most joints of a planar chain built in Python (the presets ``planarN`` stop at 500)."""
+
 if TYPE_CHECKING:
     import pinocchio as pin
 
@@ -43,7 +46,7 @@ def planar_chain(m: int, total_length: float = 1.0) -> pin.Model:
     """
     import pinocchio as pin
 
-    m = check.positive_int("m", m)
+    m = check.positive_int("m", m, maximum=MAX_CHAIN_JOINTS)
     total_length = check.positive_float("total_length", total_length)
     segment = total_length / m
     model = pin.Model()
@@ -73,7 +76,7 @@ def planar_kinematics(m: int, total_length: float = 1.0, axes: str = "xy") -> Ki
     at the origin); every axis is z; the tip is one segment beyond the last joint. These are
     the arrays :func:`~gb_pin.robot.chain_reader.read_chain` reads from the model.
     """
-    m = check.positive_int("m", m)
+    m = check.positive_int("m", m, maximum=MAX_CHAIN_JOINTS)
     total_length = check.positive_float("total_length", total_length)
     segment = total_length / m
     translations = np.zeros((m, 3))
@@ -94,6 +97,7 @@ def planar_kinematics(m: int, total_length: float = 1.0, axes: str = "xy") -> Ki
 
 def planar_home(m: int) -> NDArray[np.float64]:
     """The paper's home posture: q_1 = -pi/3, q_i = 2 pi / (3 (m - 1)) for i > 1 [rad]."""
+    m = check.positive_int("m", m, maximum=MAX_CHAIN_JOINTS)
     home = np.full(m, 2.0 * math.pi / (3.0 * (m - 1)) if m > 1 else 0.0)
     home[0] = -math.pi / 3.0
     return home

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._names import listing
 from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -131,9 +132,7 @@ def home_posture(
         try:
             q = check.vector("home", home, len(joints))
         except InvalidArgumentError as exc:
-            raise InvalidArgumentError(
-                f"{exc}: one value per joint of `joints` ({', '.join(joints)})"
-            ) from exc
+            raise InvalidArgumentError(f"{exc}: one value per joint of `joints` ({listing(joints)})") from exc
         check_within_limits(q, joints, *limits)
         return q
     assert full_model is not None  # checked above

@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 
 from gb_pin import _validation as check
 from gb_pin._names import closest
+from gb_pin._reading import read_bytes
 from gb_pin.exceptions import InvalidArgumentError, UnknownRobotError
 from gb_pin.learn.config import NAMES, check_values
 from gb_pin.robot.grids import grid_targets
@@ -63,6 +64,8 @@ __all__ = [
     "robots",
 ]
 
+MAX_PRESET_BYTES = 1 << 20
+"""The largest preset file read (the packaged ones are under 2 kB)."""
 MAX_PLANAR_JOINTS = 500
 """The longest planar chain ``planarN`` builds (the paper's go up to 50 joints)."""
 
@@ -166,8 +169,12 @@ def _read_learner(table: Any) -> dict[str, Any]:
         raise InvalidArgumentError(f"[learner] {exc}") from exc
 
 
-def _read_preset(text: str, filename: str) -> RobotPreset:
+def _read_preset(text: str | bytes, filename: str) -> RobotPreset:
     try:
+        if isinstance(text, bytes):
+            if len(text) > MAX_PRESET_BYTES:
+                raise InvalidArgumentError(f"{len(text)} bytes; a preset has at most {MAX_PRESET_BYTES}")
+            text = text.decode("utf-8")
         raw = tomllib.loads(text)
         source = raw.get("source")
         if source not in _SOURCES:
@@ -230,8 +237,8 @@ def _read_preset(text: str, filename: str) -> RobotPreset:
             target_spec=spec,
             task=task,
         )
-    except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError) as exc:
-        raise InvalidArgumentError(f"malformed robot preset {filename}: {exc}") from exc
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError, OverflowError, RecursionError) as exc:
+        raise InvalidArgumentError(f"malformed robot preset {filename}: {str(exc)[:200]}") from exc
 
 
 _PRESETS: dict[str, RobotPreset] | None = None
@@ -243,12 +250,21 @@ def _presets() -> dict[str, RobotPreset]:
         found = {}
         for entry in sorted(resources.files("gb_pin.presets").iterdir(), key=lambda e: e.name):
             if entry.name.endswith(".toml"):
-                preset = _read_preset(entry.read_text(encoding="utf-8"), entry.name)
+                preset = _read_preset(_preset_bytes(entry), entry.name)
                 if preset.name in found:
                     raise InvalidArgumentError(f"two robot presets are named {preset.name!r}")
                 found[preset.name] = preset
         _PRESETS = found
     return _PRESETS
+
+
+def _preset_bytes(entry: Any) -> bytes:
+    """A preset file's bytes: a regular file of at most :data:`MAX_PRESET_BYTES` (read in bounds)."""
+    if isinstance(entry, Path):
+        return read_bytes(
+            entry, f"robot preset {entry.name}", "preset file", MAX_PRESET_BYTES, InvalidArgumentError
+        )
+    return bytes(entry.read_bytes())
 
 
 def robots() -> list[RobotPreset]:

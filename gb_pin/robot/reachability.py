@@ -35,6 +35,7 @@ from gb_pin.learn.body.chain import PRISMATIC, KinematicChain, body_forward
 from gb_pin.learn.body.kinematics import Kinematics
 
 SAMPLES = 20000  # postures sampled per check (about 5 ms of forward kinematics for 7 joints)
+MAX_SAMPLES = 10**7  # the most postures sampled (arrays of about 1 GB for 7 joints)
 STARTS = 8  # descents started from the sampled postures closest to each point
 ITERATIONS = 200  # damped least-squares iterations per descent
 TOLERANCE = 1e-4  # a point is reached when the frame is this close [m]
@@ -200,7 +201,7 @@ def sample_positions(
     robot: Robot, samples: int = SAMPLES, seed: int | np.random.Generator = 0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Uniform postures within the limits and their frame positions: (samples, m), (samples, n) [m]."""
-    samples = check.positive_int("samples", samples)
+    samples = check.positive_int("samples", samples, maximum=MAX_SAMPLES)
     rng = check.generator(seed)
     lo, hi = sampling_bounds(robot)
     Q = lo + (hi - lo) * rng.random((samples, lo.shape[0]))

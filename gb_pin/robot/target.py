@@ -88,7 +88,8 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
             and :class:`~gb_pin.robot.task_spec.Pointing` specs of one or several frames.
         orientation_scale: s [m/rad] of the rotational rows of ``"pose"`` and ``"pointing"``
             (default 0.2).
-        pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector).
+        pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector;
+            default ``"z"``); refused with another task, which would ignore it.
         onboard: choose the joints, home and goal grid not given, and the learner's radius, by
             measurement (:mod:`gb_pin.robot.onboarding`; recorded in :attr:`onboarding`). Default
             False here, True in :meth:`from_urdf` and :meth:`from_example_robot_data`.
@@ -112,7 +113,7 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
         name: str | None = None,
         task: TaskSpec = None,
         orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
+        pointing_axis: str | ArrayLike | None = None,
         onboard: bool = False,
     ) -> None:
         import pinocchio as pin

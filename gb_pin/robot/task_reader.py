@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from gb_pin._names import listing
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.body.components import ORIENTATION, POINTING, POSITION, TaskComponents
@@ -81,7 +82,7 @@ def stack_task(
             moved = [model.names[j] for j in order]
             raise InvalidArgumentError(
                 f"task frame {spec.frame!r} of {name!r} is not moved by the joints the learner moves "
-                f"({', '.join(moved)}): choose a frame on the moved chain"
+                f"({listing(moved)}): choose a frame on the moved chain"
             )
         placement = frame.placement
         fields["parents"][k] = parent

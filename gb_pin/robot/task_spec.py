@@ -182,14 +182,25 @@ def from_mapping(table: Mapping[str, Any]) -> TaskComponentSpec:
 
 
 def resolve_task(
-    task: TaskSpec, frame: str, axes: str, orientation_scale: float | None, pointing_axis: Any = "z"
+    task: TaskSpec, frame: str, axes: str, orientation_scale: float | None, pointing_axis: Any = None
 ) -> tuple[TaskComponentSpec, ...] | None:
     """The components of ``task`` (frames resolved to ``frame``), None for the plain position task.
 
+    ``orientation_scale`` goes with the names ``"pose"`` and ``"pointing"`` only, and
+    ``pointing_axis`` (default ``"z"``) with ``"pointing"`` only: given with another task they
+    would be ignored, so they are refused (a list of specs carries its own).
+
     Raises:
-        InvalidArgumentError: an unknown task name, a bad scale or axis, an empty or
-            malformed sequence, or the same component twice.
+        InvalidArgumentError: an unknown task name, a bad scale or axis, an argument the task
+            does not use, an empty or malformed sequence, or the same component twice.
     """
+    uses = {"orientation_scale": ("pose", "pointing"), "pointing_axis": ("pointing",)}
+    for name, value in (("orientation_scale", orientation_scale), ("pointing_axis", pointing_axis)):
+        if value is not None and not (isinstance(task, str) and task in uses[name]):
+            raise InvalidArgumentError(
+                f"{name}={value!r} goes with task={' or '.join(map(repr, uses[name]))} only; "
+                f"task={task!r} would ignore it (a list of specs gives it in each spec)"
+            )
     scale = (
         DEFAULT_ORIENTATION_SCALE
         if orientation_scale is None
@@ -201,7 +212,8 @@ def resolve_task(
         if task == "pose":
             specs: list[Any] = [Position(frame, axes), Orientation(frame, scale)]
         elif task == "pointing":
-            specs = [Position(frame, axes), Pointing(frame, pointing_axis, scale)]
+            axis = "z" if pointing_axis is None else pointing_axis
+            specs = [Position(frame, axes), Pointing(frame, axis, scale)]
         else:
             raise InvalidArgumentError(
                 f"task must be one of {list(TASK_NAMES)} or a sequence of Position, Orientation and "

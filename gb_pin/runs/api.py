@@ -293,6 +293,7 @@ class _Runner:
         self.path = checkpoint
         self.wall_before = wall_before
         self.start = time.perf_counter()
+        self.saved = True  # whether the last checkpoint write succeeded
 
     def wall(self) -> float:
         return self.wall_before + time.perf_counter() - self.start
@@ -313,28 +314,45 @@ class _Runner:
         )
         try:
             write_checkpoint(self.path, state, info)
+            self.saved = True
+            return
         except OSError as exc:  # e.g. the disk filled up: keep the run's state somewhere
-            import warnings
+            first = exc
+        import warnings
 
-            from gb_pin._files import fallback_path
-            from gb_pin.exceptions import GbPinWarning
+        from gb_pin._files import fallback_paths
+        from gb_pin.exceptions import GbPinWarning
 
-            where = fallback_path(self.path)
-            write_checkpoint(where, state, info)
+        for where in fallback_paths(self.path):
+            try:
+                write_checkpoint(where, state, info)
+            except OSError:
+                continue
             warnings.warn(
-                f"cannot write the checkpoint {os.fspath(self.path)!r} ({exc}); "
+                f"cannot write the checkpoint {os.fspath(self.path)!r} ({first}); "
                 f"writing it to {where!r} from now on",
                 GbPinWarning,
                 stacklevel=2,
             )
-            self.path = where
+            self.path, self.saved = where, True
+            return
+        self.saved = False
+        warnings.warn(
+            f"cannot write the checkpoint {os.fspath(self.path)!r} ({first}) nor anywhere else; the run "
+            "goes on, and tries again at the next checkpoint",
+            GbPinWarning,
+            stacklevel=2,
+        )
 
     def result(self, learner: GoalBabbling, interrupted: bool) -> BabbleResult:
         if interrupted:
             where = os.fspath(self.path or "")
-            raise KeyboardInterrupt(
-                f"interrupted at movement {learner.movements_}; checkpoint written to {where}"
+            saved = (
+                f"checkpoint written to {where}"
+                if self.saved
+                else f"no checkpoint could be written ({where})"
             )
+            raise KeyboardInterrupt(f"interrupted at movement {learner.movements_}; {saved}")
         state = learner.state_
         return BabbleResult(
             target=self.target,  # type: ignore[arg-type]

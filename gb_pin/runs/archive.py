@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import json
+import struct
 import zipfile
 import zlib
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
 from gb_pin._files import atomic_write
+from gb_pin._reading import open_regular, read_npy
 from gb_pin.exceptions import ResultFileError
 
 
@@ -30,15 +32,40 @@ def atomic_savez(path: str, arrays: dict[str, Any], meta: dict[str, Any], compre
 MAX_FILE_BYTES = 1 << 30  # 1 GiB of arrays (decompressed) in one file
 MAX_MEMBERS = 256
 MAX_HEADER_BYTES = 1 << 20  # the JSON header
+MAX_DISK_BYTES = MAX_FILE_BYTES + (1 << 24)  # the file itself: its arrays and the zip's and .npy's headers
+_EOCD_SIZE = 22  # bytes of a zip's end-of-central-directory record
+_MAX_ENTRY_BYTES = 1024  # a generous bound on one central directory entry of a gb_pin file
 
 
 def _reject_constant(name: str) -> Any:
     raise ValueError(f"non-finite number {name} in the header")
 
 
-def _read_members(path: str, kind: str) -> dict[str, Any]:
+def _check_directory(fh: IO[bytes], size: int, path: str, kind: str) -> None:
+    """Check the zip's end record (member count, directory size) before zipfile parses the directory.
+
+    zipfile reads the whole central directory and builds an object per member: a forged end
+    record could otherwise make it parse millions of entries.
+    """
+    tail = min(size, _EOCD_SIZE + 0xFFFF)  # the end record, then a comment of at most 64 KiB
+    fh.seek(size - tail)
+    data = fh.read(tail)
+    pos = data.rfind(b"PK\x05\x06")
+    if pos < 0 or len(data) - pos < _EOCD_SIZE:
+        raise ResultFileError(f"{path}: not a gb_pin {kind} (not a zip archive)")
+    entries, directory = struct.unpack("<HI", data[pos + 10 : pos + 16])
+    if entries > MAX_MEMBERS or directory > MAX_MEMBERS * _MAX_ENTRY_BYTES:
+        raise ResultFileError(
+            f"{path}: declares {entries} members in a directory of {directory} bytes; a gb_pin {kind} "
+            f"has at most {MAX_MEMBERS} (gb_pin.runs.archive.MAX_MEMBERS)"
+        )
+    fh.seek(0)
+
+
+def _read_members(fh: IO[bytes], size: int, path: str, kind: str) -> dict[str, Any]:
     """Every ``.npy`` member of the zip archive, after checking what each declares."""
-    with zipfile.ZipFile(path) as archive:
+    _check_directory(fh, size, path, kind)
+    with zipfile.ZipFile(fh) as archive:
         infos = archive.infolist()
         if len(infos) > MAX_MEMBERS:
             raise ResultFileError(f"{path}: {len(infos)} members; a gb_pin {kind} has at most {MAX_MEMBERS}")
@@ -52,30 +79,12 @@ def _read_members(path: str, kind: str) -> dict[str, Any]:
         for info in infos:
             if not info.filename.endswith(".npy"):
                 raise ResultFileError(f"{path}: unexpected member {info.filename[:60]!r}")
-            with archive.open(info) as fh:
-                version = np.lib.format.read_magic(fh)
-                if version == (1, 0):
-                    shape, fortran, dtype = np.lib.format.read_array_header_1_0(fh)
-                elif version == (2, 0):
-                    shape, fortran, dtype = np.lib.format.read_array_header_2_0(fh)
-                else:
-                    raise ResultFileError(f"{path}: member {info.filename!r} has .npy version {version}")
-                if dtype.hasobject:
-                    raise ResultFileError(f"{path}: member {info.filename!r} holds Python objects")
-                count = 1
-                for d in shape:
-                    count *= int(d)
-                if count * dtype.itemsize > info.file_size:
-                    raise ResultFileError(
-                        f"{path}: member {info.filename!r} claims shape {shape} of {dtype} "
-                        f"({count * dtype.itemsize} bytes) in {info.file_size} bytes"
-                    )
-                data = fh.read(count * dtype.itemsize)
-                if len(data) != count * dtype.itemsize:
-                    raise ResultFileError(f"{path}: member {info.filename!r} is truncated")
-                arr = np.frombuffer(data, dtype=dtype).copy()
-                arr = arr.reshape(shape[::-1]).transpose() if fortran else arr.reshape(shape)
-            arrays[info.filename[: -len(".npy")]] = arr
+            label = f"{path}: member {info.filename[:60]!r}"
+            limit = 4 * MAX_HEADER_BYTES if info.filename == "meta.npy" else MAX_FILE_BYTES
+            with archive.open(info) as member:
+                arrays[info.filename[: -len(".npy")]] = read_npy(
+                    member, info.file_size, label, limit, ResultFileError
+                )
     return arrays
 
 
@@ -109,16 +118,12 @@ def read_archive(
     Raises:
         ResultFileError: missing, truncated, corrupted, oversized, foreign or newer-version file.
     """
+    fh, size = open_regular(path, path, kind, MAX_DISK_BYTES, ResultFileError)
     try:
-        with open(path, "rb") as fh:
-            magic = fh.read(6)
-        if magic == b"\x93NUMPY":
-            raise ResultFileError(f"{path}: not a gb_pin {kind} (an .npy array, not an .npz archive)")
-        arrays = _read_members(path, kind)
-    except FileNotFoundError as exc:
-        raise ResultFileError(f"{path}: no such {kind}") from exc
-    except IsADirectoryError as exc:
-        raise ResultFileError(f"{path}: a directory, not a gb_pin {kind}") from exc
+        with fh:
+            if fh.read(6) == b"\x93NUMPY":
+                raise ResultFileError(f"{path}: not a gb_pin {kind} (an .npy array, not an .npz archive)")
+            arrays = _read_members(fh, size, path, kind)
     except ResultFileError:
         raise
     except (OSError, ValueError, TypeError, zipfile.BadZipFile, zlib.error, EOFError, KeyError,

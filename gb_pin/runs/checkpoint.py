@@ -14,6 +14,7 @@ import contextlib
 import dataclasses
 import fcntl
 import os
+import stat
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -212,7 +213,17 @@ def checkpoint_lock(path: str | os.PathLike[str] | None) -> Iterator[None]:
     full = os.path.abspath(os.fspath(path))
     lock = os.path.join(os.path.dirname(full), f".{os.path.basename(full)}.lock")
     while True:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:  # never through a symlink planted at the lock's name, never a FIFO or device
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            raise InvalidArgumentError(
+                f"checkpoint {os.fspath(path)!r}: cannot create its lock {lock!r} ({exc.strerror or exc})"
+            ) from exc
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            os.close(fd)
+            raise InvalidArgumentError(
+                f"checkpoint {os.fspath(path)!r}: its lock {lock!r} is not a regular file"
+            )
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError as exc:

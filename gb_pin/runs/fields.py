@@ -78,13 +78,15 @@ def history(
 ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
     """(movements, error, home_distance): 1-D, one length, movements increasing integers >= 0.
 
-    E^X and D^home may be NaN (not measured) but not infinite.
+    E^X and D^home may be NaN (not measured) but not infinite nor negative.
     """
     movements = arrays["movements"]
     if movements.dtype.kind not in "iu" or movements.ndim != 1:
         raise _fail(path, "movements", f"{movements.dtype} array of shape {movements.shape}", "1-d integers")
     moves = movements.astype(np.int64)
-    if moves.size and (moves[0] < 0 or np.any(np.diff(moves) <= 0)):
+    if not moves.size:
+        raise ResultFileError(f"{path}: the history is empty (a run records E^X at least once)")
+    if moves[0] < 0 or np.any(np.diff(moves) <= 0):
         raise ResultFileError(f"{path}: the history's movements must be increasing integers >= 0")
     out = []
     for name in ("error", "home_distance"):
@@ -94,8 +96,8 @@ def history(
                 path, name, f"{arr.dtype} array of shape {arr.shape}", f"real numbers of shape {moves.shape}"
             )
         values = arr.astype(np.float64)
-        if np.any(np.isinf(values)):
-            raise ResultFileError(f"{path}: {name} holds infinite values")
+        if np.any(np.isinf(values)) or np.any(values < 0):
+            raise ResultFileError(f"{path}: {name} holds infinite or negative values (a distance is >= 0)")
         out.append(values)
     return moves, out[0], out[1]
 
@@ -117,8 +119,8 @@ def components(path: str, arrays: dict[str, Any], count: int) -> NDArray[np.floa
             f"real numbers of shape ({count}, C)",
         )
     values = arr.astype(np.float64)
-    if np.any(np.isinf(values)):
-        raise ResultFileError(f"{path}: history_components holds infinite values")
+    if np.any(np.isinf(values) | (values < 0)):
+        raise ResultFileError(f"{path}: history_components holds infinite or negative values")
     return values
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import atomic_write
+from gb_pin._names import printable
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -52,9 +53,10 @@ def _axes(ax: Any) -> tuple[Any, Any, Any]:
 
 
 def _style(err_ax: Any, home_ax: Any, twin: bool) -> None:
-    """Log axes, units and grids of the two curves."""
+    """Log axes, units and grids of the two curves (E^X with nothing positive to show stays linear)."""
     err_ax.set_xscale("log")
-    err_ax.set_yscale("log")
+    if _positive(err_ax):
+        err_ax.set_yscale("log")
     err_ax.set_xlabel("movements r")
     err_ax.set_ylabel("performance error $E^X$ [m]", color=ERROR_COLOR if twin else "black")
     home_ax.set_ylabel("distance from home $D^{home}$ [rad]", color=HOME_COLOR if twin else "black")
@@ -65,6 +67,15 @@ def _style(err_ax: Any, home_ax: Any, twin: bool) -> None:
         home_ax.grid(True, which="major", alpha=0.3)
         err_ax.set_title("(a)", loc="left")
         home_ax.set_title("(b)", loc="left")
+
+
+def _positive(ax: Any) -> bool:
+    """Whether the curves drawn on ``ax`` have a positive finite value (a log axis needs one)."""
+    for line in ax.get_lines():
+        y = np.asarray(line.get_ydata(), dtype=float)
+        if np.any(np.isfinite(y) & (y > 0)):
+            return True
+    return False
 
 
 def _finish(
@@ -142,16 +153,20 @@ def plot_history(
     x = h.movements[keep]
     fig, err_ax, home_ax = _axes(ax)
     twin = ax is not None
-    e0 = float(h.error[0])
+    e0 = h.initial_error  # NaN if movement 0 was not recorded; 0 if home reaches every target
     err_ax.plot(x, h.error[keep], color=ERROR_COLOR, lw=2.0, label="$E^X$")
-    err_ax.axhline(e0, color="0.4", lw=0.8, ls="--", label=f"$E_0$ = {e0:.3g} m")
-    err_ax.axhline(0.1 * e0, color="0.4", lw=0.8, ls=":", label="0.1 $E_0$")
+    if e0 > 0:  # on a log axis, E_0 = 0 has no place (and no ratio)
+        err_ax.axhline(e0, color="0.4", lw=0.8, ls="--", label=f"$E_0$ = {e0:.3g} m")
+        err_ax.axhline(0.1 * e0, color="0.4", lw=0.8, ls=":", label="0.1 $E_0$")
+        share = f"{float(h.error[-1]) / e0:.1%} of $E_0$"
+    else:
+        share = "$E_0$ = 0" if e0 == 0 else "$E_0$ not recorded"
     home_ax.plot(x, h.home_distance[keep], color=HOME_COLOR, lw=2.0, label="$D^{home}$")
     _style(err_ax, home_ax, twin)
     error, home = float(h.error[-1]), float(h.home_distance[-1])
     title = (
-        f"{name}: {movements} movements, final $E^X$ = {error:.4g} m "
-        f"({error / e0:.1%} of $E_0$), $D^{{home}}$ = {home:.3g} rad"
+        f"{printable(name, 80)}: {movements} movements, final $E^X$ = {error:.4g} m "
+        f"({share}), $D^{{home}}$ = {home:.3g} rad"
     )
     return _finish(fig, (err_ax, home_ax), title, path, twin)
 

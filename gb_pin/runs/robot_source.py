@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from gb_pin._names import listing, printable
 from gb_pin.exceptions import GbPinError, ResultFileError
 
 MAX_TEXT = 4096  # characters of a path or a module spec
@@ -317,15 +318,17 @@ def explain(source: dict[str, Any]) -> str:
     if source["kind"] == "plant":
         return f"the plant {source['name']!r} (a mis-calibrated body of {source['base']!r}); pass it: robot="
     if source["kind"] == "module":
-        return f"the robot {source['spec']!r} (MODULE:NAME); pass it: --robot {source['spec']}"
-    where = source["path"] if source["kind"] == "urdf" else f"erd:{source['robot']}"
+        spec = printable(source["spec"])
+        return f"the robot {spec!r} (MODULE:NAME); pass it: --robot {spec}"
+    where = printable(source["path"] if source["kind"] == "urdf" else f"erd:{source['robot']}")
     home = ",".join(repr(v) for v in source["home"])
+    frame = printable(source["frame"])  # names from a file: printable
     options = (
-        f"--robot {where} --frame {source['frame']} --joints {','.join(source['joints'])} "
+        f"--robot {where} --frame {frame} --joints {listing(source['joints'], ',')} "
         f"--home {home} --axes {source['axes']}"
     )
     kind = "the URDF model" if source["kind"] == "urdf" else "the example-robot-data model"
-    return f"{kind} {where} (frame {source['frame']!r}, {len(source['joints'])} joints); pass it: {options}"
+    return f"{kind} {where} (frame {frame!r}, {len(source['joints'])} joints); pass it: {options}"
 
 
 def rebuild(path: str, source: dict[str, Any]) -> Any:

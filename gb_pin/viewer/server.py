@@ -3,7 +3,8 @@
 meshcat 0.3.2's own server (``meshcat.servers.zmqserver``) binds its web port to
 every interface and relays each command through a zmq round trip to a second
 process. :class:`LocalServer` replaces it: it listens on 127.0.0.1 only, answers only
-requests whose Host header names that address (no DNS rebinding), serves meshcat's
+requests whose Host header names that address (no DNS rebinding), with bounded connections,
+timeouts and request sizes (:mod:`gb_pin.viewer.listener`), serves meshcat's
 bundled viewer (``meshcat/viewer/dist``, nothing from the network) and forwards
 commands to the connected browsers. It has the ``send(command)`` method of
 ``meshcat.visualizer.ViewerWindow``, so ``meshcat.Visualizer(window=...)`` (and with
@@ -28,10 +29,12 @@ import tornado.netutil
 import tornado.web
 import tornado.websocket
 
+from gb_pin._names import printable
 from gb_pin.exceptions import ViewerError
 from gb_pin.viewer.cache import SceneCache
 from gb_pin.viewer.commands import Command, Encoded, encode, property_of
 from gb_pin.viewer.dependencies import viewer_assets
+from gb_pin.viewer.listener import Listener, Notes, http_server, quiet_loop_errors
 
 LOOPBACK = "127.0.0.1"
 DEFAULT_PORT = 7000
@@ -44,10 +47,9 @@ def sanitize(text: str, limit: int = 200) -> str:
     r"""``text`` with every non-printable character escaped (``\x1b``), cut to ``limit`` characters.
 
     Request lines are attacker-controlled: logged raw, ``%1b[...`` would write escape sequences
-    to the user's terminal.
+    to the user's terminal (:func:`gb_pin._names.printable`).
     """
-    clean = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in text[: 4 * limit])
-    return clean[:limit] + ("..." if len(clean) > limit else "")
+    return printable(text, limit)
 
 
 def _log_request(handler: tornado.web.RequestHandler) -> None:
@@ -73,6 +75,8 @@ def bind_loopback(port: int | None) -> tuple[list[socket.socket], int]:
     Raises:
         ViewerError: the port is taken, or none of the ports tried is free.
     """
+    if port is not None and not (isinstance(port, int) and 1 <= port <= 65535):
+        raise ViewerError(f"port must be an integer in [1, 65535], got {port!r}")
     ports = [port] if port is not None else list(range(DEFAULT_PORT, DEFAULT_PORT + PORT_ATTEMPTS))
     errors = []
     for p in ports:
@@ -117,6 +121,9 @@ class _SocketHandler(_QuietErrors, tornado.websocket.WebSocketHandler):
             raise tornado.web.HTTPError(403)
 
     def open(self, *args: str, **kwargs: str) -> None:
+        stream = getattr(self.ws_connection, "stream", None)
+        if stream is not None:
+            self.server._listener.keep(stream)  # a browser: never closed to make room
         self.server._opened(self)
 
     def on_message(self, message: str | bytes) -> None:
@@ -152,6 +159,7 @@ class LocalServer:
         self._clients: dict[_SocketHandler, Any] = {}  # client -> its last write future
         self._connected = threading.Event()
         self._closed_flag = False
+        self._notes = Notes(_log)
         self._ready: Future[tornado.ioloop.IOLoop] = Future()
         self._thread = threading.Thread(
             target=self._serve, args=(sockets,), name="gb_pin-viewer", daemon=True
@@ -170,6 +178,7 @@ class LocalServer:
         asyncio.set_event_loop(loop)
         try:
             ioloop = tornado.ioloop.IOLoop.current()
+            quiet_loop_errors(loop, self._notes)
             http = self._make_server(sockets)
         except BaseException as exc:
             self._ready.set_exception(exc)
@@ -179,6 +188,7 @@ class LocalServer:
         try:
             ioloop.start()
         finally:
+            self._listener.close()
             http.stop()
             with contextlib.suppress(Exception):
                 loop.run_until_complete(loop.shutdown_asyncgens())
@@ -196,8 +206,8 @@ class LocalServer:
             ],
             log_function=_log_request,  # sanitised, at debug level: nothing on the user's terminal
         )
-        http = tornado.httpserver.HTTPServer(app)
-        http.add_sockets(sockets)
+        http = http_server(app)  # timeouts, bounded headers, bodies and messages
+        self._listener = Listener(http, sockets, self._notes)  # at most MAX_CONNECTIONS at once
         self._http = http
         return http
 
@@ -232,6 +242,7 @@ class LocalServer:
                 await asyncio.wait_for(asyncio.gather(*pending, return_exceptions=True), timeout=2.0)
         for client in list(self._clients):
             client.close()
+        self._listener.close()
         self._http.stop()
         await asyncio.sleep(0.05)
         tornado.ioloop.IOLoop.current().stop()

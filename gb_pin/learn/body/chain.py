@@ -193,7 +193,8 @@ class KinematicChain:
         Raises:
             InvalidArgumentError: inconsistent arrays.
         """
-        m, n = self.parents.shape[0] if self.parents.ndim == 1 else -1, self.task_axes.shape[0]
+        m = self.parents.shape[0] if self.parents.ndim == 1 else -1
+        n = self.task_axes.shape[0] if self.task_axes.ndim == 1 else -1  # a 0-d array in a file
         shapes = {
             "parents": (m,), "rotations": (m, 3, 3), "translations": (m, 3), "axes": (m, 3),
             "kinds": (m,), "q_index": (m,), "frame_translation": (3,), "task_axes": (n,),
