@@ -150,7 +150,7 @@ def protocol_target(name: str, task: str) -> KinematicTarget:
     home = arm.home if isinstance(arm.home, str) else list(arm.home)
     return KinematicTarget.from_example_robot_data(
         arm.robot, arm.tip, list(arm.joints), home, task=None if task == "position" else task,
-        pointing_axis=arm.pointing_axis,
+        pointing_axis=arm.pointing_axis if task == "pointing" else None, onboard=False,
     )  # fmt: skip
 
 

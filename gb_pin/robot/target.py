@@ -39,7 +39,7 @@ from gb_pin.robot.pinocchio_models import PinocchioModels
 from gb_pin.robot.postures import from_configuration, home_posture, reference_posture, to_configuration
 from gb_pin.robot.reachability import beyond_reach, positions
 from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
-from gb_pin.robot.targets_auto import TargetSpec, auto_grid, auto_task_grid, resolve_targets
+from gb_pin.robot.targets_auto import AutoGrid, TargetSpec, auto_grid, auto_task_grid, resolve_targets
 from gb_pin.robot.task_spec import TaskComponentSpec, TaskSpec, component_label, resolve_task
 
 if TYPE_CHECKING:
@@ -152,11 +152,32 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
             from gb_pin.robot.task_reader import stack_task
 
             self.chain = stack_task(self.chain, self.model, self.task, self.home, self.name)
-        grid = goal_grid(self) if onboard and targets is None and self.task is None else None
+        grid = None
+        if onboard and targets is None and self.task is None:
+            grid = self._onboard_grid(given_home=home is not None)
         self.targets: NDArray[np.float64] | None = (
             grid.targets if grid is not None else None if targets is None else resolve_targets(targets, self)
         )
         self.onboarding: Onboarding | None = record(pick, dropped, choice, grid, self) if onboard else None
+
+    def _onboard_grid(self, given_home: bool) -> AutoGrid | None:
+        """The onboarding's goal grid; around a given home, none (with a warning) if none is reachable.
+
+        A robot with fewer moving joints than task axes (two joints, a 3-D position) reaches no 3-D
+        grid: it needs ``targets=`` (or other ``axes``), which ``babble`` then says.
+        """
+        try:
+            return goal_grid(self)
+        except InvalidArgumentError as exc:
+            if not given_home:
+                raise
+            import warnings
+
+            from gb_pin.exceptions import GbPinWarning
+
+            message = f"{self.name}: no goal grid chosen ({exc}); pass targets="
+            warnings.warn(message, GbPinWarning, stacklevel=3)
+            return None
 
     @classmethod
     def _from_arrays(
