@@ -28,6 +28,7 @@ from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
 from gb_pin.runs.api import babble
+from gb_pin.sim.spec import is_plant_spec
 
 
 def run_one_trial(
@@ -116,9 +117,9 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
         raise InvalidArgumentError(f"conditions must be gb_pin.Condition objects, got {condition!r}")
     if not isinstance(condition.robot, str):
         raise InvalidArgumentError(
-            f"robot must be a preset name or MODULE:NAME for trials, got {condition.robot!r}"
+            f"robot must be a preset name, MODULE:NAME or ROBOT@mujoco for trials, got {condition.robot!r}"
         )
-    if ":" not in condition.robot:  # MODULE:NAME robots are checked by the probe run below
+    if ":" not in condition.robot and not is_plant_spec(condition.robot):  # the probe run checks those
         get_preset(condition.robot)
     parameters = dict(condition.parameters)
     check_parameters(parameters)
@@ -340,7 +341,7 @@ def run_trials(
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
 
     Args:
-        robot: preset name.
+        robot: preset name (or ``MODULE:NAME``, or a simulated plant ``ROBOT@mujoco:kp=10``).
         trials: number of trials.
         movements: movements per trial.
         seed: seed of trial 0.

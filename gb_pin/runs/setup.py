@@ -29,6 +29,7 @@ from gb_pin.robot.presets import get_preset, load_robot
 from gb_pin.robot.spec import is_robot_spec, load_robot_spec
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs.spec import RunSpec
+from gb_pin.sim.spec import is_plant_spec
 
 Target = KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot
 
@@ -36,12 +37,19 @@ Target = KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot
 def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
     """(target, preset name or None, the preset's learner defaults); ``MODULE:NAME`` loads a robot.
 
+    ``ROBOT@mujoco[:options]`` builds a simulated plant (:mod:`gb_pin.sim`), with ROBOT's defaults.
+
     Raises:
         UnknownRobotError: unknown preset name.
         InvalidArgumentError: not a robot.
     """
     if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot):
-        return robot, None, {}
+        return robot, None, dict(getattr(robot, "learner_defaults", None) or {})  # a plant's preset's
+    if is_plant_spec(robot):  # "so101@mujoco:kp=10": a simulated plant (gb_pin.sim)
+        from gb_pin.sim.plant import MujocoPlant
+
+        plant = MujocoPlant.from_spec(robot)
+        return plant, None, dict(plant.learner_defaults)
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):
