@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import add_learner_options, add_model_options, add_quiet, learner_values, model_robot
+from gb_pin.cli.simulation import add_plant_option, plant_robot, plant_summary
 from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -39,6 +40,7 @@ def _add_options(b: argparse.ArgumentParser) -> None:
         "gb_pin.FunctionTarget)",
     )
     add_model_options(b)
+    add_plant_option(b)
     b.add_argument(
         "--movements", type=int, default=None, help="movements, home returns included (default 1000)"
     )
@@ -112,6 +114,7 @@ def run(args: argparse.Namespace) -> int:
     elif robot is None:
         get_preset(args.robot)  # an unknown robot is reported before the kernels compile
         robot = args.robot
+    robot = plant_robot(args, robot)  # --plant mujoco: the robot simulated (gb_pin.sim)
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
@@ -128,6 +131,8 @@ def run(args: argparse.Namespace) -> int:
     state = result.state
     if args.goals is not None and state is not None:
         print(f"goals            {state.goals!r}")
+    if (line := plant_summary(args, robot)) is not None:
+        print(line)
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:
