@@ -96,6 +96,27 @@ def test_a_sessions_checkpoint_holds_the_plant_and_resumes_bit_identical(tmp_pat
         resume_session(plain, robot=_plant())
 
 
+def test_a_corrupted_plant_state_in_a_checkpoint_is_a_result_file_error(tmp_path: Path) -> None:
+    """robot_state arrays of the wrong shape or too many of them: ResultFileError, nothing resumed."""
+    from gb_pin.runs.archive import atomic_savez, read_archive
+    from gb_pin.runs.checkpoint import FORMAT, FORMAT_VERSION
+
+    plant = _plant()
+    path = tmp_path / "plant.ckpt"
+    session = gb_pin.babble_session(plant, movements=4, seed=0, checkpoint=path, checkpoint_every=2)
+    _drive(session, plant)
+    session.close()
+    arrays, meta = read_archive(str(path), "checkpoint", FORMAT, FORMAT_VERSION)
+    bad = tmp_path / "bad.ckpt"
+    atomic_savez(str(bad), {**arrays, "robot_state.mujoco": arrays["robot_state.mujoco"][:3]}, meta)
+    with pytest.raises(ResultFileError, match="mujoco"):
+        resume_session(bad, robot=_plant())
+    many = {f"robot_state.x{i}": np.zeros(1) for i in range(20)}
+    atomic_savez(str(bad), {**arrays, **many}, meta)
+    with pytest.raises(ResultFileError, match="robot state arrays"):
+        resume_session(bad, robot=_plant())
+
+
 def test_trials_rebuild_the_plant_from_its_string_in_each_worker() -> None:
     """run_trials("so101@mujoco:...") gives each trial what babble gives its seed."""
     spec = "so101@mujoco:period=0.02"
