@@ -12,6 +12,7 @@ takes the forward function, a home posture, limits and targets.
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import math
 import time
@@ -54,10 +55,14 @@ def robot() -> gb_pin.FunctionTarget:
 
 
 def main() -> None:
-    """Learn 2000 movements and print E^X and the per-step cost."""
+    """Learn ``--movements`` movements and print E^X and the per-step cost."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--movements", type=int, default=2000, help="movements (default 2000)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    args = parser.parse_args()
     arm = robot()
     start = time.perf_counter()
-    result = gb_pin.babble(arm, movements=2000, seed=0)
+    result = gb_pin.babble(arm, movements=args.movements, seed=args.seed)
     wall = time.perf_counter() - start
     e = result.history.error
     print(f"continuum arm, {arm.n_joints} segments: E^X {e[0]:.4f} m -> {result.error:.4f} m "

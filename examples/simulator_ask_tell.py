@@ -10,6 +10,7 @@ for the next posture, sends it over the pipe, and tells the session what came ba
 
 from __future__ import annotations
 
+import argparse
 import multiprocessing as mp
 import time
 from multiprocessing.connection import Connection
@@ -50,4 +51,6 @@ def main(movements: int = 1000) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--movements", type=int, default=1000, help="movements (default 1000)")
+    main(parser.parse_args().movements)

@@ -53,6 +53,12 @@ _EXPORTS: dict[str, str] = {
     "BabbleSession": "gb_pin.runs.session",
     "babble_session": "gb_pin.runs.session",
     "FunctionTarget": "gb_pin.robot.function",
+    "ExternalRobot": "gb_pin.robot.external",
+    "Plant": "gb_pin.robot.plant",
+    "Sensor": "gb_pin.learn.sensor",
+    "FeedbackReach": "gb_pin.learn.feedback",
+    "RunSpec": "gb_pin.runs.spec",
+    "resume_session": "gb_pin.runs.session",
     "ChangedBody": "gb_pin.robot.bodies",
     "load_result": "gb_pin.runs.result",
     "save_result": "gb_pin.runs.result",
@@ -73,7 +79,9 @@ __all__ = [
     "ChangedBody",
     "Condition",
     "DivergenceError",
+    "ExternalRobot",
     "ExtrapolationWarning",
+    "FeedbackReach",
     "FunctionTarget",
     "GbPinError",
     "GbPinWarning",
@@ -84,10 +92,13 @@ __all__ = [
     "KinematicTarget",
     "LocalLinearMap",
     "NotFittedError",
+    "Plant",
     "RecordedSteps",
     "Recording",
     "ResultFileError",
     "RobotPreset",
+    "RunSpec",
+    "Sensor",
     "Sweep",
     "TrialSet",
     "UnknownRobotError",
@@ -104,6 +115,7 @@ __all__ = [
     "planar_chain",
     "planar_home",
     "resume",
+    "resume_session",
     "robots",
     "run_sweep",
     "run_trials",
@@ -130,17 +142,22 @@ if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
     from gb_pin.experiments.trials import Condition, Sweep, TrialSet, conditions_grid, run_sweep, run_trials
     from gb_pin.learn.body.chain import KinematicChain
     from gb_pin.learn.config import BabbleConfig, default_sigma
+    from gb_pin.learn.feedback import FeedbackReach
     from gb_pin.learn.history import History, RecordedSteps, Recording
     from gb_pin.learn.learner import GoalBabbling
     from gb_pin.learn.llm import LocalLinearMap
     from gb_pin.learn.metrics import evaluation_schedule, speed
+    from gb_pin.learn.sensor import Sensor
     from gb_pin.learn.state import BabbleState
     from gb_pin.robot.bodies import ChangedBody
+    from gb_pin.robot.external import ExternalRobot
     from gb_pin.robot.function import FunctionTarget
     from gb_pin.robot.grids import grid_targets
     from gb_pin.robot.planar import planar_chain, planar_home
+    from gb_pin.robot.plant import Plant
     from gb_pin.robot.presets import RobotPreset, load_robot, robots
     from gb_pin.robot.target import KinematicTarget
     from gb_pin.runs.api import babble, resume
     from gb_pin.runs.result import BabbleResult, load_result, save_result
-    from gb_pin.runs.session import BabbleSession, babble_session
+    from gb_pin.runs.session import BabbleSession, babble_session, resume_session
+    from gb_pin.runs.spec import RunSpec

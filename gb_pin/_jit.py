@@ -21,7 +21,10 @@ from numba import njit
 
 # The package's files that hold compiled code, relative to the package directory.
 KERNEL_FILES: tuple[str, ...] = (
+    "ik/clock.py",
+    "ik/geometry.py",
     "ik/jacobian.py",
+    "ik/search.py",
     "ik/solver.py",
     "learn/body/chain.py",
     "learn/body/components.py",

@@ -39,7 +39,7 @@ def reference_target(name: str) -> KinematicTarget:
     """The preset's robot, frame and joints with the model's reference posture as home."""
     preset, _ = get_preset(name)
     return KinematicTarget.from_example_robot_data(
-        preset.robot, preset.frame, list(preset.joints), label=name
+        preset.robot, preset.frame, list(preset.joints), label=name, onboard=False
     )
 
 

@@ -200,7 +200,8 @@ def test_foreign_and_newer_checkpoints_are_refused(tmp_path: Path) -> None:
     """A result file, an npz with wrong keys, or a newer format version is refused with ResultFileError."""
     res = gb_pin.babble("planar3", movements=5, seed=0)
     res.save(tmp_path / "result.npz")
-    with pytest.raises(gb_pin.ResultFileError, match="not a gb_pin checkpoint"):
+    # A result file for a checkpoint: what it is and what to do (extend it with --continue).
+    with pytest.raises(gb_pin.ResultFileError, match=r"a result file, not a checkpoint.*--continue"):
         gb_pin.resume(tmp_path / "result.npz")
     np.savez(tmp_path / "keys.npz", a=np.zeros(3))
     with pytest.raises(gb_pin.ResultFileError, match=r"keys\.npz"):

@@ -93,8 +93,12 @@ def test_make_goals_errors_name_the_value() -> None:
     """Unknown names and bad parameters are the package's error, with close names."""
     with pytest.raises(gb_pin.InvalidArgumentError, match="closest: cyclic"):
         make_goals("cyclc")
-    with pytest.raises(gb_pin.InvalidArgumentError, match="bad parameters"):
+    with pytest.raises(
+        gb_pin.InvalidArgumentError, match=r"unknown parameter 'stride'.*cyclic takes start, snap"
+    ):
         make_goals("cyclic", {"stride": 2})
+    with pytest.raises(gb_pin.InvalidArgumentError, match="'snp'; did you mean 'snap'"):
+        make_goals("uniform:snp=0.1")  # the user's misspelling, never Python's TypeError text
     with pytest.raises(gb_pin.InvalidArgumentError, match="goals must be"):
         make_goals(5)  # type: ignore[arg-type]
     with pytest.raises(gb_pin.InvalidArgumentError, match="start"):

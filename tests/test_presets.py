@@ -204,7 +204,7 @@ def test_executed_postures_respect_limits_and_are_learnt_from() -> None:
     From TALOS's half_sitting (arm_left_1/2 near their limits) the limits bind in many steps.
     """
     joints = EXPECTED["talos_left_arm"].joints
-    target = KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", joints)
+    target = KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", joints, onboard=False)
     corners = target.home_position + 0.05 * np.array(list(itertools.product([-1, 1], repeat=3)))
     result = gb_pin.babble(target, movements=200, seed=0, targets=corners, record=Recording(every=1))
     assert result.recording is not None

@@ -132,7 +132,10 @@ def test_a_moved_or_edited_urdf_gets_a_message_naming_it_and_the_options(
 
 
 def test_a_module_robot_is_recorded_but_never_imported_from_a_file(tmp_path: Path, capsys: Any) -> None:
-    """MODULE:NAME: the file records the spec; without --robot it is refused (not imported); --robot works."""
+    """MODULE:NAME: the file records the spec; without --robot it is refused (not imported); --robot works.
+
+    ``plot`` needs no robot (the curves are in the file): it plots without --robot, importing nothing.
+    """
     marker = tmp_path / "imported.txt"
     module = tmp_path / "my_arm.py"
     module.write_text(
@@ -149,9 +152,10 @@ def test_a_module_robot_is_recorded_but_never_imported_from_a_file(tmp_path: Pat
     imports = marker.read_text()
     with pytest.raises(ResultFileError, match=r"does not import.*--robot " + str(module)):
         gb_pin.load_result(out)
-    assert main(["plot", str(out), "-o", str(tmp_path / "m.png")]) == 2
-    assert marker.read_text() == imports  # the module was not run
+    assert main(["show", str(out), "--html", str(tmp_path / "m.html")]) == 2
     assert "--robot" in capsys.readouterr().err
+    assert main(["plot", str(out), "-o", str(tmp_path / "m.png")]) == 0  # curves need no robot
+    assert marker.read_text() == imports  # the module was not run
     assert main(["plot", str(out), "-o", str(tmp_path / "m.png"), "--robot", spec]) == 0  # the user's choice
     robot_spec._LOADED.clear()
 

@@ -122,4 +122,4 @@ def test_plant_observe_reads_the_true_body_through_its_sensor() -> None:
     assert abs(1 - len(seen) / 4000 - 0.25) < 5 * math.sqrt(0.25 * 0.75 / 4000)
     np.testing.assert_allclose(seen.mean(axis=0), plant.forward(q), atol=5 * 0.001 / math.sqrt(len(seen)))
     np.testing.assert_allclose(seen.std(axis=0), 0.001, rtol=0.06)
-    assert not np.allclose(plant.forward(q), plant.model.forward(q), atol=1e-3)  # the body is not the model
+    assert not np.allclose(plant.forward(q), plant.target.forward(q), atol=1e-3)  # the body is not the model

@@ -122,6 +122,8 @@ def test_function_target_checks_its_arguments() -> None:
         gb_pin.FunctionTarget(lambda q: [np.nan], [0.0])
     with pytest.raises(gb_pin.InvalidArgumentError, match="lower <= home"):
         gb_pin.FunctionTarget(lambda q: q, [0.0], lower=1.0)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="returned None"):
+        gb_pin.FunctionTarget(lambda q: None, [0.0])
     robot = gb_pin.FunctionTarget(lambda q: np.array([q[0], q[0]]), [0.0])
     with pytest.raises(gb_pin.InvalidArgumentError, match="targets="):
         gb_pin.babble(robot, movements=3)

@@ -356,7 +356,7 @@ def test_from_urdf_matches_pinocchio_on_the_urdf_model() -> None:
 
     Joints j1..j4, the continuous j2 seen as one angle.
     """
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, onboard=False)
     assert target.joints == ("j1", "j2", "j3", "j4")
     assert target.name == "small_arm"
     np.testing.assert_allclose(target.home, [0.3, -0.5, 0.05, 1.0], atol=1e-15)
@@ -386,16 +386,21 @@ def test_from_urdf_bad_files_raise(tmp_path: Path) -> None:
 
 
 def test_floating_base_must_be_locked() -> None:
-    """A free floating base must be locked: joints=None or naming it are errors.
+    """A free floating base must be locked: joints=None without onboarding or naming it are errors.
 
-    The first names the base and suggests joints; naming arm joints locks the base at the reference.
+    The first names the base and suggests the joints that move the frame, in no language's syntax
+    (the command line shows it too); onboarding chooses them; naming arm joints locks the base.
     """
-    with pytest.raises(InvalidArgumentError, match=r"free floating base 'root_joint'.*joints=\['j1'"):
-        KinematicTarget.from_urdf(SMALL_URDF, "tool", floating_base=True)
+    with pytest.raises(
+        InvalidArgumentError, match=r"free floating base 'root_joint'.*move 'tool': j1, j2, j3, j4,"
+    ):
+        KinematicTarget.from_urdf(SMALL_URDF, "tool", floating_base=True, onboard=False)
+    onboarded = KinematicTarget.from_urdf(SMALL_URDF, "tool", floating_base=True)
+    assert onboarded.joints == ("j1", "j2", "j3", "j4")
     with pytest.raises(InvalidArgumentError, match=r"'root_joint' is a free floating base"):
         KinematicTarget.from_urdf(SMALL_URDF, "tool", ["root_joint", "j1"], floating_base=True)
-    mobile = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"], floating_base=True)
-    fixed = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"])
+    mobile = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"], floating_base=True, onboard=False)
+    fixed = KinematicTarget.from_urdf(SMALL_URDF, "tool", ["j1", "j3"], onboard=False)
     # neutral free flyer = identity placement, so both see the same world positions.
     for q in ([0.0, 0.0], [1.0, 0.05], [-1.5, 0.1]):
         np.testing.assert_allclose(mobile.forward(q), fixed.forward(q), rtol=0, atol=ATOL)
@@ -405,7 +410,7 @@ def test_floating_base_must_be_locked() -> None:
 def test_from_example_robot_data_humanoid_locks_base_at_half_sitting() -> None:
     """TALOS's left arm: the base and other joints at half_sitting; errors name the closest joints/frames."""
     joints = [f"arm_left_{i}_joint" for i in range(1, 8)]
-    target = KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", joints)
+    target = KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", joints, onboard=False)
     assert target.n_joints == 7
     assert target.urdf is not None and target.urdf.endswith("talos_reduced.urdf")
     half_sitting = {c.key(): np.asarray(c.data()) for c in target.full_model.referenceConfigurations}[
@@ -422,8 +427,8 @@ def test_from_example_robot_data_humanoid_locks_base_at_half_sitting() -> None:
         KinematicTarget.from_example_robot_data("talos", "gripper_left_bse_link", joints)
     with pytest.raises(UnknownRobotError, match=r"'tallos'.*talos"):
         KinematicTarget.from_example_robot_data("tallos", "gripper_left_base_link", joints)
-    with pytest.raises(InvalidArgumentError, match=r"free floating base"):
-        KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link")
+    with pytest.raises(InvalidArgumentError, match=r"free floating base.*arm_left_1_joint"):
+        KinematicTarget.from_example_robot_data("talos", "gripper_left_base_link", onboard=False)
 
 
 def test_home_of_wrong_length_lists_the_joints() -> None:
@@ -437,7 +442,7 @@ def test_targets_auto_and_specs() -> None:
 
     The auto grid has 27 reachable points centred on the home position.
     """
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, targets="auto")
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, targets="auto", onboard=False)
     assert target.targets is not None and target.targets.shape == (27, 3)
     np.testing.assert_allclose(target.targets.mean(axis=0), target.home_position, atol=1e-12)
     np.testing.assert_array_equal(target.targets, target.auto_targets())
@@ -446,6 +451,7 @@ def test_targets_auto_and_specs() -> None:
         SMALL_URDF,
         "tool",
         srdf=SMALL_SRDF,
+        onboard=False,
         targets={"lower": x - 0.01, "upper": x + 0.01, "shape": [2, 2, 2]},
     )
     assert grid.targets is not None and grid.targets.shape == (8, 3)
@@ -462,8 +468,8 @@ def test_unreachable_explicit_targets_warn() -> None:
 
 
 def test_babble_without_targets_uses_auto() -> None:
-    """babble() on a custom target with no target set learns the auto grid."""
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    """babble() on a custom target with no target set (not onboarded) learns the auto grid."""
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, onboard=False)
     assert target.targets is None
     result = gb_pin.babble(target, movements=20, seed=0, schedule=[0, 20])
     np.testing.assert_array_equal(result.targets, target.auto_targets())
@@ -471,14 +477,14 @@ def test_babble_without_targets_uses_auto() -> None:
 
 def test_babble_warns_about_unreachable_targets() -> None:
     """babble(targets=...) warns about targets beyond the arm's reach, and still runs."""
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF)
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, onboard=False)
     with pytest.warns(UnreachableTargetWarning):
         gb_pin.babble(target, movements=5, seed=0, targets=[target.home_position, [0.0, 0.0, 5.0]])
 
 
 def test_visual_model_is_loaded_on_demand() -> None:
     """A URDF target builds its visual model when asked; a pin.Model target has none (GbPinError)."""
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool")
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", onboard=False)
     visual = target.visual_model()
     assert visual.ngeoms == 5
     with pytest.raises(GbPinError, match="no meshes"):
@@ -492,7 +498,7 @@ def test_learning_in_one_two_and_three_dimensions(axes: str) -> None:
     The small arm on its auto grid: E^X after 1000 movements is below 0.10 E_0 (the issue's
     learning criterion) in each of 3 seeds (measured: 0.007 to 0.05 E_0).
     """
-    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, axes=axes)
+    target = KinematicTarget.from_urdf(SMALL_URDF, "tool", srdf=SMALL_SRDF, axes=axes, onboard=False)
     assert target.auto_targets().shape == (3 ** len(axes), len(axes))
     for seed in range(3):
         result = gb_pin.babble(target, movements=1000, seed=seed, schedule=[0, 1000])

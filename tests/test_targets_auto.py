@@ -37,7 +37,9 @@ DATA = Path(__file__).parent / "data"
 
 def small_arm() -> KinematicTarget:
     """tests/data/small_arm.urdf: revolute, continuous, prismatic and unaligned joints; home 'ready'."""
-    return KinematicTarget.from_urdf(DATA / "small_arm.urdf", "tool", srdf=DATA / "small_arm.srdf")
+    return KinematicTarget.from_urdf(
+        DATA / "small_arm.urdf", "tool", srdf=DATA / "small_arm.srdf", onboard=False
+    )
 
 
 def limited_planar(m: int = 3) -> KinematicTarget:

@@ -20,6 +20,7 @@ from gb_pin import InvalidArgumentError, KinematicTarget, UnknownRobotError, loa
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.component_metrics import task_errors
 from gb_pin.robot.reachability import check_reachable, sampling_bounds
+from gb_pin.robot.reduction import find_frame
 from gb_pin.robot.task_spec import Orientation, Pointing, Position
 from gb_pin.robot.task_targets import task_grid
 
@@ -46,7 +47,7 @@ def _pinocchio_rows(target: KinematicTarget, q: np.ndarray) -> np.ndarray:
     assert comps is not None and target.task is not None
     rows = []
     for k, spec in enumerate(target.task):
-        oMf = data.oMf[model.getFrameId(spec.frame)]
+        oMf = data.oMf[find_frame(model, spec.frame, target.name)]  # a link named like a joint: the link
         if isinstance(spec, Position):
             rows.extend(oMf.translation["xyz".index(a)] for a in spec.axes)
         elif isinstance(spec, Orientation):

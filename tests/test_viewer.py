@@ -682,7 +682,7 @@ def test_mesh_robot_is_drawn_with_its_meshes() -> None:
     """
     from gb_pin.robot.models import example_robot_data_dir
 
-    target = gb_pin.KinematicTarget.from_example_robot_data("ur5", "tool0")
+    target = gb_pin.KinematicTarget.from_example_robot_data("ur5", "tool0", onboard=False)
     share = str(example_robot_data_dir().parent.parent)
     visual = pin.buildGeomFromUrdf(
         target.full_model, target.urdf, pin.GeometryType.VISUAL, package_dirs=[share]

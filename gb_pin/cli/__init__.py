@@ -19,11 +19,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from gb_pin.cli.parser import build_parser
-from gb_pin.exceptions import GbPinError
+from gb_pin.exceptions import GbPinError, GbPinWarning
 
 __all__ = ["build_parser", "main", "run"]
 
@@ -54,6 +55,16 @@ def run() -> NoReturn:
 
 def _main(argv: Sequence[str] | None) -> tuple[int, argparse.Namespace | None]:
     args = build_parser().parse_args(argv)
+    previous = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        """gb_pin's warnings in one line, ``gb-pin: warning: ...`` (not a source line: the user's view)."""
+        if issubclass(category, GbPinWarning):
+            print(f"gb-pin: warning: {message}", file=sys.stderr)
+        else:
+            previous(message, category, *rest, **kw)
+
+    warnings.showwarning = show
     try:
         return int(args.func(args)), args
     except GbPinError as exc:
@@ -66,3 +77,5 @@ def _main(argv: Sequence[str] | None) -> tuple[int, argparse.Namespace | None]:
     except KeyboardInterrupt as exc:
         print(f"gb-pin: {exc or 'interrupted'}", file=sys.stderr)
         return 130, None
+    finally:
+        warnings.showwarning = previous

@@ -7,14 +7,23 @@ opens the viewer, babbles and prints the summary that README.md shows.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import threading
 import time
 from typing import TYPE_CHECKING, Any
 
+import gb_pin.cli.body_options as body_options
 from gb_pin.cli.goal_options import add_goal_options, goal_values
-from gb_pin.cli.options import add_learner_options, add_model_options, add_quiet, learner_values, model_robot
-from gb_pin.cli.simulation import add_plant_option, plant_robot, plant_summary
+from gb_pin.cli.options import (
+    add_learner_options,
+    add_quiet,
+    add_robot_options,
+    learner_values,
+    onboarding_lines,
+    robot_argument,
+)
+from gb_pin.cli.simulation import plant_summary
 from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -24,29 +33,48 @@ if TYPE_CHECKING:
     from gb_pin.viewer import Viewer
 
 
+DESCRIPTION = """\
+Learn a robot's inverse kinematics by trying to reach (Online Goal Babbling, Rolf, Steil and
+Gienger 2011): print E^X (Eq. 9: the mean distance to the targets of the learned postures),
+D^home and the number of local models; save the result with --out.
+
+A robot given without joints, home, targets or radius (a URDF file or erd:NAME with only
+--frame) gets them chosen by measurement, and the choice is printed and saved."""
+
+EXAMPLES = """\
+examples:
+  gb-pin babble --robot planar20 --movements 1000 --seed 0
+  gb-pin babble --robot talos_left_arm --movements 3000 --out run.npz
+  gb-pin babble --robot erd:z1 --frame link06 --movements 3000
+  gb-pin babble --robot my_arm.urdf --frame tool --joints j1,j2,j3 --out arm.npz
+  gb-pin babble --robot examples/continuum_arm.py:robot --movements 500
+  gb-pin babble --continue run.npz --movements 2000 --out more.npz
+  gb-pin babble --robot planar50 --movements 100000 --checkpoint run.ckpt   (then: --resume run.ckpt)
+  gb-pin babble --robot planar5 --movements 300 --view"""
+
+
 def add_babble(sub: Subparsers) -> None:
     """Register ``babble``."""
-    sub.add_parser("babble", help="learn an inverse model by goal babbling", configure=_add_options)
+    sub.add_parser(
+        "babble",
+        help="learn an inverse model by goal babbling",
+        description=DESCRIPTION,
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        configure=_add_options,
+    )
 
 
 def _add_options(b: argparse.ArgumentParser) -> None:
     """``babble``'s options: the run, the learner, output, checkpoints, recording, viewer."""
-    b.add_argument(
-        "--robot",
-        default=None,
-        help="preset name, e.g. planar5, planar20 (default planar20); a URDF file (my_arm.urdf) or "
-        "erd:NAME (an example-robot-data model, e.g. erd:romeo) with --frame; or MODULE:NAME (a module or "
-        "a .py file, and a robot in it or a function of no arguments returning one, e.g. a "
-        "gb_pin.FunctionTarget)",
-    )
-    add_model_options(b)
-    add_plant_option(b)
+    add_robot_options(b, default="planar20")
     b.add_argument(
         "--movements", type=int, default=None, help="movements, home returns included (default 1000)"
     )
     b.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
     add_learner_options(b)
     add_goal_options(b)
+    body_options.add_body_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     _add_checkpoint_options(b)
     _add_record_options(b)
@@ -65,6 +93,14 @@ def _add_checkpoint_options(b: argparse.ArgumentParser) -> None:
         "--resume",
         default=None,
         help="continue the run of this checkpoint (bit-identical to an uninterrupted run)",
+    )
+    b.add_argument(
+        "--continue",
+        dest="continue_from",
+        metavar="RESULT",
+        default=None,
+        help="learn --movements more from the end of a saved run (its robot, model, noise, random stream "
+        "and hyperparameters; movements count from 0 again; babble(init=...))",
     )
 
 
@@ -86,14 +122,16 @@ def _add_view_options(b: argparse.ArgumentParser) -> None:
         "--view-pace", type=float, default=None, help="slow motion: at most this many movements per second"
     )
     b.add_argument(
-        "--view-wait", type=float, default=60.0, help="seconds to wait for a browser to connect (default 60)"
+        "--view-wait",
+        type=float,
+        default=60.0,
+        help="seconds to wait for a browser to connect before babbling (default 60; 0: start at once)",
     )
 
 
 def run(args: argparse.Namespace) -> int:
     """Babble (or resume), print the summary and save the result if asked."""
     import gb_pin.cli.checks as checks
-    from gb_pin.robot.presets import get_preset
     from gb_pin.runs.api import warmup
 
     checks.babble(args)  # combinations, ranges and output paths, before any work
@@ -102,37 +140,46 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidArgumentError(
             f"--resume continues the checkpoint's goals and sets; drop {', '.join(sorted(goal_args))}"
         )
+    if args.resume:
+        given = [o for o, v in (("--plant", args.plant), ("--sensor", args.sensor),
+                                ("--max-joint-step", args.max_joint_step)) if v is not None]  # fmt: skip
+        if given:
+            raise InvalidArgumentError(
+                f"--resume continues the checkpoint's robot and options: drop {', '.join(given)}"
+            )
     done, steps_before, wall_before = _read_resume(args)
     # --resume runs the checkpoint's robot: resume() loads its preset or rebuilds the model it records.
-    robot: Any = None if args.resume else model_robot(args)  # a URDF or example-robot-data model, or None
-    if args.resume:
-        robot = None
-    elif robot is None and ":" in args.robot:  # MODULE:NAME, loaded here: a bad one fails before compiling
-        from gb_pin.robot.spec import load_robot_spec
-
-        robot = load_robot_spec(args.robot)
-    elif robot is None:
-        get_preset(args.robot)  # an unknown robot is reported before the kernels compile
-        robot = args.robot
-    robot = plant_robot(args, robot)  # --plant mujoco: the robot simulated (gb_pin.sim)
+    # A preset stays a name; a URDF / erd model is built (and onboarded), a MODULE:NAME imported: a bad
+    # robot fails here, before the kernels compile.
+    init, robot = _read_continue(args) if args.continue_from else (None, None)
+    if init is None and not args.resume:
+        robot = robot_argument(args, targets=goal_args.get("targets"))
+    for line in onboarding_lines(robot):
+        print(line, flush=True)
+    if not args.resume:
+        robot = body_options.plant(args, robot)  # --plant: the robot as it is, not its model
+        goal_args = {**goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step}
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
     progress = _Progress(args.robot, args.movements, done, disable=args.quiet)
     start = time.perf_counter()
     try:
-        result = _run(args, robot, progress, record, viewer, goal_args)
+        result = _run(args, robot, progress, record, viewer, goal_args, init)
     finally:
         progress.close()
         if viewer is not None:
             viewer.finish()  # the last state and the learned model; browsers keep showing them
             viewer.close()
     _print_summary(args, result, time.perf_counter() - start, compile_time, (steps_before, wall_before))
+    warning = result.diagnose()
+    if warning is not None:
+        print(f"gb-pin: warning: {warning}", file=sys.stderr)
     state = result.state
     if args.goals is not None and state is not None:
         print(f"goals            {state.goals!r}")
-    if (line := plant_summary(args, robot)) is not None:
-        print(line)
+    if (plant_line := plant_summary(args, robot)) is not None:
+        print(plant_line)
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:
@@ -162,6 +209,26 @@ def _read_resume(args: argparse.Namespace) -> tuple[int, int, float]:
     return int(state.movements), int(state.steps), float(info.wall_time)
 
 
+def _read_continue(args: argparse.Namespace) -> tuple[BabbleResult, Any]:
+    """--continue RESULT: the saved run, checked to hold its final state, and the robot to go on with.
+
+    The robot is the run's (its preset by name, else the robot the file rebuilds), or --robot's.
+    """
+    from gb_pin.cli.options import result_robot
+    from gb_pin.runs.result import load_result
+
+    given = result_robot(args) if args.robot is not None or args.frame is not None else None
+    init = load_result(args.continue_from, target=given)
+    if init.state is None:
+        raise InvalidArgumentError(
+            f"{args.continue_from}: written by an older gb_pin, without the run's final state; rerun it "
+            "with this version to continue it"
+        )
+    robot = init.target if given is not None or init.robot is None else init.robot
+    args.robot = args.robot or init.robot or init.target.name  # for the summary
+    return init, robot
+
+
 def _run(
     args: argparse.Namespace,
     robot: Any,
@@ -169,8 +236,9 @@ def _run(
     record: Recording | None,
     viewer: Viewer | None,
     goal_args: dict[str, Any],
+    init: BabbleResult | None = None,
 ) -> BabbleResult:
-    """The run itself: ``resume(...)`` of the checkpoint or a fresh ``babble(...)``."""
+    """The run: ``resume(...)`` of the checkpoint, or ``babble(...)`` (from ``init``'s end, if given)."""
     from gb_pin.runs.api import babble, resume
 
     common: dict[str, Any] = {
@@ -183,14 +251,18 @@ def _run(
     }
     if args.resume:
         return resume(args.resume, **common)
+    learner = learner_values(args)
+    if init is not None:  # the run goes on with its hyperparameters, unless given
+        learner = {k: v if v is not None else getattr(init.config, k) for k, v in learner.items()}
     return babble(
         robot=robot,
         movements=args.movements,
-        seed=args.seed,
+        seed=0 if args.seed is None else args.seed,  # --continue: init's random stream goes on
         checkpoint=args.checkpoint,
         record=record,
+        init=init,
         **common,
-        **learner_values(args),
+        **learner,
         **goal_args,
     )
 
@@ -266,7 +338,8 @@ def _print_summary(
     e0 = result.history.error[0]
     axes = getattr(result.target, "axes", None) or f"{result.target.n_task} dimensions"
     print(f"robot            {args.robot} ({result.target.n_joints} joints, task axes {axes})")
-    print(f"movements        {result.movements} ({result.steps} steps), seed {args.seed}")
+    seed = "continued" if args.continue_from else args.seed
+    print(f"movements        {result.movements} ({result.steps} steps), seed {seed}")
     print(f"E^X              {result.error:.5f} m   (E_0 = {e0:.4f} m, {result.error / e0:.1%} of E_0)")
     if getattr(getattr(result.target, "chain", None), "components", None) is not None:  # docs/TASKS.md
         from gb_pin.learn.component_metrics import task_errors
@@ -276,6 +349,12 @@ def _print_summary(
             print(f"  {line}")
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
+    if result.missing:
+        print(f"missing readings {result.missing} ({result.missing / max(result.steps, 1):.1%} of the steps)")
+    reach = result.history.reach
+    watched = getattr(args, "plant", None) or getattr(args, "sensor", None) or result.missing
+    if watched and reach is not None and reach.size and math.isfinite(float(reach[-1])):
+        print(f"reach (observed) {reach[-1]:.5f} m   median miss at the end of the last goal movements")
     steps_before, wall_before = before
     steps = result.steps - steps_before
     per_step = f"{1e6 * (result.wall_time - wall_before) / steps:.2f} us/step" if steps > 0 else "no steps"
@@ -315,6 +394,12 @@ def _start_viewer(args: argparse.Namespace) -> Viewer | None:
     print(f"viewer           {viewer.url}  (open it in a browser; served on 127.0.0.1 only)", flush=True)
     if args.view_pace is None:
         print("                 (full speed; --view-pace 30 shows every movement, 30 per second)", flush=True)
-    if args.view_wait > 0 and not viewer.wait_for_browser(args.view_wait):
-        print(f"                 no browser within {args.view_wait:g} s: babbling anyway", flush=True)
+    if args.view_wait > 0:
+        print(
+            f"                 waiting up to {args.view_wait:g} s for a browser to open it "
+            "(--view-wait SECONDS to change, 0 to start at once)...",
+            flush=True,
+        )
+        if not viewer.wait_for_browser(args.view_wait):
+            print(f"                 no browser within {args.view_wait:g} s: babbling anyway", flush=True)
     return viewer

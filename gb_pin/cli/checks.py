@@ -40,7 +40,16 @@ def babble(args: argparse.Namespace) -> None:
     Raises:
         InvalidArgumentError: naming the option and what is valid.
     """
-    if args.resume is not None:
+    if args.resume is not None and args.continue_from is not None:
+        raise InvalidArgumentError(
+            "--resume finishes a checkpoint's run, --continue extends a result: not both"
+        )
+    if args.continue_from is not None:
+        if args.seed is not None:
+            raise InvalidArgumentError("--continue goes on with the run's own random stream: drop --seed")
+        args.movements = BABBLE_DEFAULTS["movements"] if args.movements is None else args.movements
+        check.movements("--movements", args.movements, minimum=1)
+    elif args.resume is not None:
         given = [f"--{k}" for k in BABBLE_DEFAULTS if getattr(args, k) is not None]
         if given:
             raise InvalidArgumentError(

@@ -8,6 +8,8 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
+from gb_pin.cli.options import add_model_options, result_robot
+
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
     from gb_pin.ik.solution import IKSolution
@@ -40,10 +42,23 @@ def _add_options(s: argparse.ArgumentParser) -> None:
     s.add_argument("run", help="a result file written by `gb-pin babble ... --out run.npz`")
     s.add_argument("coordinates", nargs="*", help="one target's coordinates on the task axes [m]")
     s.add_argument("--targets", default=None, help="a CSV file of targets, one per line [m]")
-    s.add_argument("--seed", choices=("learned", "home"), default="learned", help="start (default learned)")
-    s.add_argument("--tol", type=float, default=1e-4, help="success tolerance [m] (default 1e-4)")
-    s.add_argument("--max-iterations", type=int, default=100, help="steps per target (default 100)")
+    s.add_argument(
+        "--seed",
+        choices=("learned", "nearest", "home", "middle"),
+        default="learned",
+        help="start (default learned)",
+    )
+    s.add_argument("--tol", type=float, default=1e-4, help="position tolerance [m] (default 1e-4)")
+    s.add_argument(
+        "--angle-tol", type=float, default=1e-4, help="orientation / pointing tolerance [rad] (default 1e-4)"
+    )
+    s.add_argument("--max-iterations", type=int, default=100, help="steps from one seed (default 100)")
+    s.add_argument(
+        "--timeout", type=float, default=None,
+        help="seconds per target: restart from random postures until solved (default: one attempt)",
+    )  # fmt: skip
     s.add_argument("--json", action="store_true", help="print the solutions as JSON")
+    add_model_options(s, robot=True)
     s.set_defaults(func=run)
 
 
@@ -59,8 +74,8 @@ def _number(text: str, where: str) -> float:
     return value
 
 
-def read_targets_csv(path: str, axes: str) -> list[list[float]]:
-    """The targets of a CSV file: one per line, ``len(axes)`` comma-separated numbers [m].
+def read_targets_csv(path: str, axes: str | int) -> list[list[float]]:
+    """The targets of a CSV file: one per line, ``len(axes)`` (or ``axes``) comma-separated numbers.
 
     Raises:
         InvalidArgumentError: the file cannot be read, or a line is malformed.
@@ -72,6 +87,8 @@ def read_targets_csv(path: str, axes: str) -> list[list[float]]:
             lines = f.read().splitlines()
     except (OSError, UnicodeDecodeError) as exc:
         raise InvalidArgumentError(f"--targets: cannot read {path!r} ({exc})") from exc
+    if isinstance(axes, int):  # a task vector without axis names: n numbers per line
+        axes = "?" * axes
     rows: list[list[float]] = []
     for number, line in enumerate(lines, start=1):
         fields = [f.strip() for f in line.split(",")]
@@ -90,16 +107,18 @@ def read_targets_csv(path: str, axes: str) -> list[list[float]]:
     return rows
 
 
-def _targets(args: argparse.Namespace, axes: str, name: str) -> list[list[float]]:
+def _targets(args: argparse.Namespace, axes: str | int, name: str) -> list[list[float]]:
     from gb_pin.exceptions import InvalidArgumentError
 
     if args.targets is not None and args.coordinates:
         raise InvalidArgumentError("give the coordinates of one target or --targets FILE, not both")
     if args.targets is not None:
         return read_targets_csv(args.targets, axes)
-    if len(args.coordinates) != len(axes):
+    count = axes if isinstance(axes, int) else len(axes)
+    if len(args.coordinates) != count:
+        what = f"task vector of {name}" if isinstance(axes, int) else f"axes {axes!r} of {name}"
         raise InvalidArgumentError(
-            f"expected {len(axes)} coordinates (axes {axes!r} of {name}), got {len(args.coordinates)}: "
+            f"expected {count} coordinates ({what}), got {len(args.coordinates)}: "
             f"{' '.join(args.coordinates) or 'none'} (or give --targets FILE)"
         )
     return [[_number(c, "coordinate") for c in args.coordinates]]
@@ -128,10 +147,20 @@ def run(args: argparse.Namespace) -> int:
     """Load the run, solve the targets, print them; 1 when a target is not reached."""
     from gb_pin.runs.result import load_result
 
-    result = load_result(args.run)
+    result = load_result(args.run, target=result_robot(args))  # None: the robot the file records
     target = result.target
-    X = _targets(args, target.axes, target.name)
-    sol = result.solve(X, tol=args.tol, max_iterations=args.max_iterations, seed=args.seed)
+    if getattr(target, "chain", None) is None:  # a robot given as a function: no Jacobian to refine on
+        from gb_pin.exceptions import InvalidArgumentError
+
+        raise InvalidArgumentError(
+            f"{args.run}: gb-pin ik refines on the robot's kinematic chain, which {target.name!r} (a robot "
+            "given as a function) has none of; its learned postures are result.inverse(X) in Python"
+        )
+    X = _targets(args, target.axes if len(target.axes) == target.n_task else target.n_task, target.name)
+    sol = result.solve(
+        X, tol=args.tol, max_iterations=args.max_iterations, seed=args.seed, angle_tol=args.angle_tol,
+        timeout=args.timeout,
+    )  # fmt: skip
     if args.json:
         print(_as_json(sol, target.name, target.joints, target.axes))
     else:

@@ -94,34 +94,69 @@ def add_html(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--html", default=None, help="write one self-contained HTML file instead of serving")
 
 
-def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
-    """--frame, --joints, --home, --axes (and --robot if ``robot``): a URDF or example-robot-data model.
+ROBOT_HELP = (
+    "a preset (e.g. planar5, talos_left_arm: `gb-pin robots`), a URDF file (my_arm.urdf) or erd:NAME "
+    "(a robot of example-robot-data, e.g. erd:z1) with --frame, or MODULE:NAME (a module or a .py file, "
+    "and a robot in it or a function of no arguments returning one, e.g. examples/continuum_arm.py:robot)"
+)
 
-    ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``: the robot a result was learned
-    on, when its file cannot rebuild it: a robot built in Python, loaded by MODULE:NAME, or a model
-    moved or edited since; see :func:`result_robot`).
+
+def add_robot_options(b: argparse.ArgumentParser, default: str | None) -> None:
+    """--robot (a preset, a URDF, erd:NAME or MODULE:NAME; ``default`` if not given) and the model options."""
+    shown = f" (default {default})" if default else ""
+    b.add_argument("--robot", default=None, help=f"the robot{shown}: {ROBOT_HELP}")
+    add_model_options(b)
+
+
+def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
+    """--frame, --joints, --home, --axes, --srdf (and --robot if ``robot``): a URDF or erd:NAME model.
+
+    ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``, ``ik``: the robot a result was
+    learned on, when its file cannot rebuild it: a robot built in Python, loaded by MODULE:NAME, or a
+    model moved or edited since; see :func:`result_robot`).
     """
     if robot:
         b.add_argument(
             "--robot",
             default=None,
             help="the run's robot, if the file cannot rebuild it (default: the one the file records): "
-            "a URDF or erd:NAME model (with --frame), MODULE:NAME or a preset",
+            + ROBOT_HELP,
         )
-    b.add_argument("--frame", default=None, help="with --robot FILE.urdf or erd:NAME: the effector frame")
+    b.add_argument(
+        "--frame", default=None, help="with --robot FILE.urdf or erd:NAME: the effector frame (required)"
+    )
     b.add_argument(
         "--joints",
         default=None,
-        help="comma-separated joints the learner moves (default: all; others locked)",
+        help="comma-separated joints the learner moves, others locked (default: chosen, the joints that "
+        "move --frame)",
     )
     b.add_argument(
-        "--home", default=None, help="home posture: comma-separated values over --joints, or a named posture"
+        "--home",
+        default=None,
+        help="home posture: comma-separated values over --joints, or a named posture of the SRDF "
+        "(default: chosen, inside the limits and away from them and from singularities)",
     )
-    b.add_argument("--axes", default=None, help="task axes, e.g. xyz or xy (default: the model's)")
+    b.add_argument("--axes", default=None, help="task axes, e.g. xyz or xy (default xyz)")
+    b.add_argument(
+        "--srdf",
+        default=None,
+        help="with --robot FILE.urdf: an SRDF file whose group states name postures for --home "
+        "(example-robot-data robots have theirs)",
+    )
 
 
-def model_robot(args: argparse.Namespace) -> Any:
-    """--robot FILE.urdf or erd:NAME (with --frame, --joints, --home, --axes) as a KinematicTarget, else None.
+def is_model_spec(spec: str) -> bool:
+    """Whether ``--robot`` names a URDF file or an example-robot-data robot (``erd:NAME``)."""
+    return spec.lower().endswith(".urdf") or spec.startswith("erd:")
+
+
+def model_robot(args: argparse.Namespace, targets: Any = None) -> Any:
+    """--robot FILE.urdf or erd:NAME (with --frame, --joints, --home, --axes, --srdf) as a KinematicTarget.
+
+    None when ``--robot`` names no model. What the options leave out is chosen by measurement
+    (:mod:`gb_pin.robot.onboarding`; :func:`onboarding_lines` says what); ``targets`` (the points of
+    ``--targets``) are the robot's goal set, so that no goal grid nor radius is chosen.
 
     Raises:
         InvalidArgumentError: --frame missing, or model options given with a preset or MODULE:NAME.
@@ -130,15 +165,18 @@ def model_robot(args: argparse.Namespace) -> Any:
         return None
     spec = str(args.robot)
     options = {"--frame": args.frame, "--joints": args.joints, "--home": args.home, "--axes": args.axes}
+    options["--srdf"] = getattr(args, "srdf", None)
     given = [name for name, value in options.items() if value is not None]
-    if not (spec.lower().endswith(".urdf") or spec.startswith("erd:")):
+    if not is_model_spec(spec):
         if given:
             raise InvalidArgumentError(
                 f"{', '.join(given)}: only with --robot FILE.urdf or erd:NAME, not with --robot {spec!r}"
             )
         return None
     if not args.frame:
-        raise InvalidArgumentError(f"--robot {spec!r} needs --frame, the effector frame (e.g. --frame tool)")
+        raise InvalidArgumentError(
+            f"--robot {spec} needs --frame, the effector frame (e.g. --frame tool){_frame_hint(spec)}"
+        )
     from gb_pin.robot.target import KinematicTarget
 
     joints = comma_list(args.joints) if args.joints else None
@@ -148,30 +186,100 @@ def model_robot(args: argparse.Namespace) -> Any:
             home = [float(v) for v in comma_list(args.home)]
         except ValueError:
             home = args.home.strip()  # a named posture (SRDF / example-robot-data)
+    common: dict[str, Any] = {"home": home, "axes": args.axes, "targets": targets}
     if spec.startswith("erd:"):
-        return KinematicTarget.from_example_robot_data(
-            spec[4:], args.frame, joints, home=home, axes=args.axes
-        )
-    return KinematicTarget.from_urdf(spec, args.frame, joints, home=home, axes=args.axes)
+        if options["--srdf"] is not None:
+            raise InvalidArgumentError(f"--srdf: only with --robot FILE.urdf; {spec} brings its own SRDF")
+        return KinematicTarget.from_example_robot_data(spec[4:], args.frame, joints, **common)
+    return KinematicTarget.from_urdf(spec, args.frame, joints, srdf=options["--srdf"], **common)
 
 
-def result_robot(args: argparse.Namespace) -> Any:
-    """The robot ``--robot`` (and the model options) name for a result file, or None: the file's own.
+def _frame_hint(spec: str) -> str:
+    """``; its links, chain ends first: a, b, ...`` for a model that loads, else ``""``."""
+    try:
+        import pinocchio as pin
 
-    ``show``, ``replay`` and ``plot`` rebuild the robot the file records (a preset, a URDF or an
-    example-robot-data model); ``--robot`` overrides it, e.g. ``MODULE:NAME``, which a file alone
-    never imports (importing runs the module's code).
+        from gb_pin.robot.models import load_example_robot, load_urdf_model
+
+        model = load_example_robot(spec[4:])[0] if spec.startswith("erd:") else load_urdf_model(spec)
+    except Exception:  # the error about the model itself comes with --frame
+        return ""
+    parents = {int(model.parents[j]) for j in range(1, model.njoints)}
+    bodies = [f for f in model.frames if f.type == pin.FrameType.BODY and int(f.parentJoint) > 0]
+    names = [f.name for f in bodies if int(f.parentJoint) not in parents] + [f.name for f in bodies]
+    names = list(dict.fromkeys(names))
+    more = f", ... ({len(names)} in all)" if len(names) > 20 else ""
+    return f"; its links, the ends of its chains first: {', '.join(names[:20])}{more}" if names else ""
+
+
+def robot_argument(args: argparse.Namespace, default: str | None = None, targets: Any = None) -> Any:
+    """The robot ``--robot`` and the model options name: a preset's name, a model or a loaded MODULE:NAME.
+
+    A preset stays a name (its learner defaults come with it); a URDF or erd:NAME model is built
+    (:func:`model_robot`, with ``targets`` if given); a MODULE:NAME is imported (:mod:`gb_pin.robot.spec`).
 
     Raises:
         InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
     """
-    robot = model_robot(args)
+    if args.robot is None and default is not None and args.frame is None:
+        args.robot = default
+    robot = model_robot(args, targets)
     if robot is not None or args.robot is None:
         return robot
     from gb_pin.robot.spec import is_robot_spec, load_robot_spec
 
     if is_robot_spec(args.robot):
         return load_robot_spec(args.robot)
-    from gb_pin.robot.presets import load_robot
+    from gb_pin.robot.presets import get_preset
 
-    return load_robot(args.robot)
+    get_preset(args.robot)  # an unknown preset is reported here, with the closest names
+    return args.robot
+
+
+def robot_list(args: argparse.Namespace, names: list[str]) -> list[Any]:
+    """Each of ``names`` as :func:`robot_argument` resolves it (the model options apply to URDF / erd ones).
+
+    Raises:
+        InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
+    """
+    out = []
+    for name in names:
+        one = argparse.Namespace(**vars(args))
+        one.robot = name
+        if not is_model_spec(name):  # the model options are for the URDF / erd:NAME entries
+            for key in ("frame", "joints", "home", "axes", "srdf"):
+                setattr(one, key, None)
+        out.append(robot_argument(one))
+    return out
+
+
+def result_robot(args: argparse.Namespace) -> Any:
+    """The robot ``--robot`` (and the model options) name for a result file, or None: the file's own.
+
+    ``show``, ``replay``, ``plot`` and ``ik`` rebuild the robot the file records (a preset, a URDF or an
+    example-robot-data model); ``--robot`` overrides it, e.g. ``MODULE:NAME``, which a file alone
+    never imports (importing runs the module's code).
+
+    Raises:
+        InvalidArgumentError, UnknownRobotError: bad model options, an unknown preset or spec.
+    """
+    robot = robot_argument(args)
+    if isinstance(robot, str):
+        from gb_pin.robot.presets import load_robot
+
+        return load_robot(robot)
+    return robot
+
+
+def onboarding_lines(robot: Any) -> list[str]:
+    """What onboarding chose for ``robot`` (:mod:`gb_pin.robot.onboarding`), as the summary's lines."""
+    record = getattr(robot, "onboarding", None)
+    if record is None:
+        return []
+    targets = 0 if robot.targets is None else len(robot.targets)
+    lines = record.lines(robot.joints, robot.home, targets)
+    given = {"joints": "--joints", "home": "--home", "targets": "--targets", "radius": "--radius"}
+    given["sigma"] = "--sigma"
+    options = ", ".join(given[c] for c in record.chosen)
+    head = f"chosen           by measurement (give {options} to choose yourself):"
+    return [head, *(f"  {line}" for line in lines)]

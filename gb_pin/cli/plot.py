@@ -47,9 +47,14 @@ def run(args: argparse.Namespace) -> int:
         from gb_pin.experiments.trialset import TrialSet
 
         TrialSet.load(args.file).plot(out)
-    else:
+    elif args.robot is not None or args.frame is not None:  # a robot given: the result is checked with it
         from gb_pin.runs.result import BabbleResult
 
         BabbleResult.load(args.file, target=result_robot(args)).plot(out)
+    else:  # curves need no robot: a run of any robot plots, whether or not the file can rebuild it
+        from gb_pin.runs.plot import plot_history
+        from gb_pin.runs.results_file import read_curves
+
+        plot_history(*read_curves(args.file), path=out)
     print(f"wrote {out}")
     return 0

@@ -5,7 +5,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_quiet, add_trial_seed, add_workers
+from gb_pin.cli.options import (
+    ROBOT_HELP,
+    add_model_options,
+    add_quiet,
+    add_trial_seed,
+    add_workers,
+    comma_list,
+    onboarding_lines,
+    robot_argument,
+)
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -27,7 +36,12 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         nargs="+",
         metavar="FIGURE",
         help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all; or goals: the goal generators of "
-        "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused)",
+        "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused); "
+        "or hardware: mis-calibrated arms, URDF IK vs learned vs feedback (docs/HARDWARE.md; --trials "
+        "arms per robot, default 20; --robots)",
+    )
+    p.add_argument(
+        "--robots", default=None, help="hardware: comma-separated robots (default so101,so100,panda)"
     )
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
     p.add_argument(
@@ -47,6 +61,13 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         help="run the trials on this Dask scheduler (tcp://host:8786) or SLURM (slurm:cores=4,memory=8GB)",
     )
     p.add_argument("--fresh", action="store_true", help="ignore the cached trials in OUT/trials")
+    p.add_argument(
+        "--robot",
+        default=None,
+        help="goals only: run the study on this robot instead of planar5, planar20, talos_left_arm and "
+        "g1_left_arm: " + ROBOT_HELP,
+    )
+    add_model_options(p)
     add_quiet(p)
     p.set_defaults(func=run)
 
@@ -57,8 +78,18 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.reproduce import reproduce
 
     checks.directory(args.out, "--out")
+    if args.figures == ["hardware"]:
+        from gb_pin.reproduce.hardware import run_hardware
+
+        robots = ("so101", "so100", "panda") if args.robots is None else tuple(comma_list(args.robots))
+        files = run_hardware(
+            args.out, robots=robots, arms=20 if args.trials is None else args.trials,
+            movements=args.movements, workers=args.workers, fresh=args.fresh, progress=not args.quiet,
+        )  # fmt: skip
+        print(f"wrote {len(files)} files to {args.out} (see hardware.md)")
+        return 0
     if args.figures == ["goals"]:
-        from gb_pin.reproduce.goals import goal_study
+        from gb_pin.reproduce.goals import ROBOTS, goal_study
 
         trials = 20 if args.trials is None else args.trials
         kw = {
@@ -67,9 +98,18 @@ def run(args: argparse.Namespace) -> int:
             "workers": args.workers,
             "progress": not args.quiet,
         }
-        files = goal_study(args.out, trials=trials, **kw)
+        robot = robot_argument(args)
+        for line in onboarding_lines(robot):
+            print(line, flush=True)
+        files = goal_study(args.out, trials=trials, robots=ROBOTS if robot is None else [robot], **kw)
         print(f"wrote {len(files)} files to {args.out} (see goals.md)")
         return 0
+    if args.robot is not None or args.frame is not None:
+        from gb_pin.exceptions import InvalidArgumentError
+
+        raise InvalidArgumentError(
+            "--robot: only with `reproduce goals`; the paper's figures are of its planar arms"
+        )
     result = reproduce(
         args.figures,
         out=args.out,

@@ -26,6 +26,13 @@ def add_robots(sub: Subparsers) -> None:
 def _add_options(r: argparse.ArgumentParser) -> None:
     """``robots``'s options, those of --benchmark."""
     r.add_argument("--benchmark", action="store_true", help="run trials on every preset and print the table")
+    r.add_argument(
+        "--erd",
+        action="store_true",
+        help="every arm of example-robot-data from its frame alone (joints, home, grid, radius chosen), "
+        "5 trials of 3000 movements each unless --trials/--movements: the table of docs/ROBOTS.md",
+    )
+    r.add_argument("--arms", default=None, help="with --erd: NAME:FRAME,... (default: every arm)")
     r.add_argument("--robots", default=None, help="comma-separated presets (default: all, planar5, planar20)")
     r.add_argument(
         "--trials", type=int, default=DEFAULT_TRIALS, help=f"trials per preset (default {DEFAULT_TRIALS})"
@@ -47,6 +54,8 @@ def _add_options(r: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the presets, or run the benchmark."""
+    if args.erd:
+        return _erd(args)
     if args.benchmark:
         return _benchmark(args)
     from gb_pin.robot.presets import format_presets
@@ -78,6 +87,36 @@ def _benchmark(args: argparse.Namespace) -> int:
         doc=args.doc,
         figure=args.figure,
         json_path=args.json,
+        command=command,
+    )
+    return 0
+
+
+ERD_TRIALS = 5
+ERD_MOVEMENTS = 3000
+
+
+def _erd(args: argparse.Namespace) -> int:
+    """--erd: every arm of example-robot-data onboarded from its frame; the table, and optionally the doc."""
+    import gb_pin.cli.checks as checks
+    from gb_pin.experiments.arm_bench import parse_arms
+    from gb_pin.experiments.arm_bench import run as run_arms
+
+    checks.outputs(args, doc="--doc")
+    trials = ERD_TRIALS if args.trials == DEFAULT_TRIALS else args.trials
+    movements = ERD_MOVEMENTS if args.movements == DEFAULT_MOVEMENTS else args.movements
+    command = "gb-pin robots --erd"
+    if trials != ERD_TRIALS:
+        command += f" --trials {trials}"
+    if movements != ERD_MOVEMENTS:
+        command += f" --movements {movements}"
+    run_arms(
+        parse_arms(args.arms) if args.arms else None,
+        seeds=trials,
+        movements=movements,
+        workers=args.workers,
+        progress=not args.quiet,
+        doc=args.doc,
         command=command,
     )
     return 0

@@ -8,7 +8,16 @@ import time
 from typing import TYPE_CHECKING
 
 from gb_pin.cli.goal_options import add_goal_options, goal_values
-from gb_pin.cli.options import add_learner_options, add_quiet, add_trial_seed, add_workers, learner_values
+from gb_pin.cli.options import (
+    add_learner_options,
+    add_quiet,
+    add_robot_options,
+    add_trial_seed,
+    add_workers,
+    learner_values,
+    onboarding_lines,
+    robot_argument,
+)
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -24,7 +33,7 @@ def add_trials(sub: Subparsers) -> None:
 
 def _add_options(t: argparse.ArgumentParser) -> None:
     """``trials``'s options: the trials, the learner, where they run, output."""
-    t.add_argument("--robot", default="planar5", help="preset name (default planar5)")
+    add_robot_options(t, default="planar5")
     t.add_argument("--trials", type=int, default=100, help="number of trials (default 100)")
     t.add_argument("--movements", type=int, default=300, help="movements per trial (default 300)")
     add_trial_seed(t)
@@ -58,9 +67,13 @@ def run(args: argparse.Namespace) -> int:
     check.positive_int("--trials", args.trials)
     check.movements("--movements", args.movements, minimum=1)
     checks.outputs(args, json="--json", checkpoint="--checkpoint")
+    goal_args = goal_values(args, as_lists=True)
+    robot = robot_argument(args, "planar5", goal_args.get("targets"))  # each worker builds it again
+    for line in onboarding_lines(robot):
+        print(line, flush=True)
     start = time.perf_counter()
     result = run_trials(
-        robot=args.robot,
+        robot=robot,
         trials=args.trials,
         movements=args.movements,
         seed=args.seed,
@@ -69,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         checkpoint=args.checkpoint,
         **learner_values(args, given_only=True),
-        **goal_values(args, as_lists=True),
+        **goal_args,
     )
     _print_summary(args, result, time.perf_counter() - start)
     if args.json is not None:

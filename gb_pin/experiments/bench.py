@@ -9,6 +9,7 @@ from __future__ import annotations
 import platform
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -21,7 +22,7 @@ class BenchRow:
     """One benchmark measurement.
 
     Attributes:
-        robot: preset name.
+        robot: preset name (or the robot's name).
         movements: movements per run.
         steps: steps per run.
         us_per_step: best-of-``repeat`` wall time per step, evaluation only at the end [us].
@@ -39,8 +40,11 @@ class BenchRow:
     error: float
 
 
-def run_benchmark(robots: list[str], movements: int = 2000, repeat: int = 3, seed: int = 0) -> list[BenchRow]:
+def run_benchmark(robots: list[Any], movements: int = 2000, repeat: int = 3, seed: int = 0) -> list[BenchRow]:
     """Time ``babble`` for each robot (after one warm-up run that compiles the kernels).
+
+    A robot is anything ``babble`` takes: a preset name, a KinematicTarget (its onboarded defaults
+    apply), MODULE:NAME.
 
     Raises:
         InvalidArgumentError: ``repeat`` < 1 or a bad number of movements.
@@ -61,7 +65,7 @@ def run_benchmark(robots: list[str], movements: int = 2000, repeat: int = 3, see
             best_eval = min(best_eval, time.perf_counter() - start)
         rows.append(
             BenchRow(
-                robot=robot,
+                robot=robot if isinstance(robot, str) else str(getattr(robot, "name", robot)),
                 movements=movements,
                 steps=res.steps,
                 us_per_step=1e6 * best / res.steps,

@@ -75,7 +75,8 @@ class Condition:
     """One experimental condition of a sweep: a robot and babble parameters.
 
     Attributes:
-        robot: preset name, e.g. ``"planar5"``.
+        robot: preset name, e.g. ``"planar5"``, MODULE:NAME, or a KinematicTarget loaded from a URDF
+            or example-robot-data (trial workers rebuild it from its robot source).
         parameters: babble arguments (``learning_rate``, ``sigma``, ``sigma_delta``,
             ``radius``, ``path_length``, ``p_home``); the rest take the preset's defaults.
         movements: movements per trial; None takes the sweep's.
@@ -83,7 +84,7 @@ class Condition:
             :func:`~gb_pin.learn.metrics.evaluation_schedule` of the run length.
     """
 
-    robot: str = "planar5"
+    robot: Any = "planar5"
     parameters: Mapping[str, Any] = field(default_factory=dict)
     movements: int | None = None
     schedule: tuple[int, ...] | None = None
@@ -95,13 +96,19 @@ class Condition:
     @property
     def label(self) -> str:
         """A short readable name, e.g. ``planar5 learning_rate=0.1`` or ``planar5 goals=progress``."""
-        parts = [self.robot, *(_label(k, v) for k, v in sorted(self.parameters.items()))]
+        parts = [robot_label(self.robot), *(_label(k, v) for k, v in sorted(self.parameters.items()))]
         return " ".join(parts)
 
     def to_json(self) -> dict[str, Any]:
-        """A JSON-serialisable dict."""
+        """A JSON-serialisable dict (a model robot as its label and robot source)."""
+        source = None
+        if not isinstance(self.robot, str):
+            from gb_pin.runs.robot_source import describe
+
+            source = describe(self.robot, None)
         return {
-            "robot": self.robot,
+            "robot": robot_label(self.robot),
+            **({} if source is None else {"robot_source": source}),
             "parameters": dict(self.parameters),
             "movements": self.movements,
             "schedule": None if self.schedule is None else list(self.schedule),
@@ -118,6 +125,11 @@ class Condition:
             movements=None if mv is None else int(mv),
             schedule=None if sched is None else tuple(int(s) for s in sched),
         )
+
+
+def robot_label(robot: Any) -> str:
+    """A robot's name for labels and trial sets: the preset or MODULE:NAME, else the target's name."""
+    return robot if isinstance(robot, str) else str(getattr(robot, "name", robot))
 
 
 def _label(key: str, value: Any) -> str:

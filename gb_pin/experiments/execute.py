@@ -2,13 +2,15 @@
 
 Trial i of a condition uses seed ``seed + i``, so a set of trials gives the same
 numbers whatever runs it: one process, a local process pool, or a Dask cluster
-(:mod:`gb_pin.experiments.distributed`). A task carries only the robot's preset name, the
-parameters, the seed and the movement counts to record, never a model: every
-worker builds its robot from the name.
+(:mod:`gb_pin.experiments.distributed`). A task carries only the robot's preset name (or
+MODULE:NAME, or the robot source of a URDF or example-robot-data model: a small JSON object,
+:mod:`gb_pin.runs.robot_source`), the parameters, the seed and the movement counts to record,
+never a model: every worker builds its robot from that (once per process).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import threading
 import time
@@ -22,26 +24,70 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.experiments.conditions import Condition, Sweep, check_parameters, conditions_grid
+from gb_pin.experiments.conditions import Condition, Sweep, check_parameters, conditions_grid, robot_label
 from gb_pin.experiments.journal import TrialJournal, TrialOutput, TrialTask
 from gb_pin.experiments.trialset import TrialSet
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
 from gb_pin.runs.api import babble
+from gb_pin.runs.spec import RunSpec
 from gb_pin.sim.spec import is_plant_spec
 
 
 def run_one_trial(
-    robot: str, movements: int, seed: int, schedule: NDArray[np.int64], kwargs: dict[str, Any]
+    robot: str | dict[str, Any],
+    movements: int,
+    seed: int,
+    schedule: NDArray[np.int64],
+    kwargs: dict[str, Any],
 ) -> TrialOutput:
     """One trial, as a worker runs it: (E^X, D^home at ``schedule``, prototypes, E^X per component or None).
 
     Module-level and fed only plain values, so that a process pool or a Dask worker
-    receives the robot's name, never a model.
+    receives the robot's name (or robot source), never a model.
     """
-    result = babble(robot=robot, movements=movements, seed=seed, schedule=schedule, **kwargs)
+    target = worker_robot(robot)
+    result = babble(robot=target, movements=movements, seed=seed, schedule=schedule, **kwargs)
     h = result.history
     return h.error, h.home_distance, result.n_prototypes, h.components
+
+
+_REBUILT: dict[str, Any] = {}  # robot source -> robot, once per worker process
+
+
+def task_robot(robot: Any) -> str | dict[str, Any]:
+    """What a trial task carries for ``robot``: a name as is, a URDF or erd model as its robot source.
+
+    Raises:
+        InvalidArgumentError: a robot that workers cannot rebuild (built in Python from a pin.Model
+            or a function: give it as MODULE:NAME).
+    """
+    if isinstance(robot, str):
+        return robot
+    from gb_pin.robot.target import KinematicTarget
+    from gb_pin.runs.robot_source import describe
+
+    source = describe(robot, None)
+    if source is not None and source["kind"] == "module":
+        return str(source["spec"])
+    if source is None or not isinstance(robot, KinematicTarget):
+        raise InvalidArgumentError(
+            "robot must be a preset name, MODULE:NAME or a KinematicTarget loaded from a URDF or "
+            f"example-robot-data for trials (each worker builds it again), got {robot!r}"
+        )
+    return source
+
+
+def worker_robot(robot: str | dict[str, Any]) -> Any:
+    """The robot a task names: a name as is, a robot source rebuilt (once per process) and checked."""
+    if isinstance(robot, str):
+        return robot
+    key = json.dumps(robot, sort_keys=True)
+    if key not in _REBUILT:
+        from gb_pin.runs.robot_source import rebuild
+
+        _REBUILT[key] = rebuild("trial", robot)
+    return _REBUILT[key]
 
 
 def run_trial_batch(tasks: list[TrialTask]) -> list[TrialOutput]:
@@ -105,6 +151,7 @@ def resolve_schedule(schedule: ArrayLike | None, movements: int) -> NDArray[np.i
 @dataclass(frozen=True)
 class _Plan:
     condition: Condition
+    robot: str | dict[str, Any]  # what the tasks carry (task_robot)
     movements: int
     schedule: NDArray[np.int64]
     parameters: dict[str, Any]
@@ -115,12 +162,9 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
     """Validate a condition with a one-movement run here, before any worker starts."""
     if not isinstance(condition, Condition):
         raise InvalidArgumentError(f"conditions must be gb_pin.Condition objects, got {condition!r}")
-    if not isinstance(condition.robot, str):
-        raise InvalidArgumentError(
-            f"robot must be a preset name, MODULE:NAME or ROBOT@mujoco for trials, got {condition.robot!r}"
-        )
-    if ":" not in condition.robot and not is_plant_spec(condition.robot):  # the probe run checks those
-        get_preset(condition.robot)
+    robot = task_robot(condition.robot)
+    if isinstance(robot, str) and ":" not in robot and not is_plant_spec(robot):  # the probe run checks
+        get_preset(robot)  # MODULE:NAME robots and plants (ROBOT@mujoco)
     parameters = dict(condition.parameters)
     check_parameters(parameters)
     length = (
@@ -128,7 +172,7 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
     )
     at = resolve_schedule(condition.schedule, length)
     probe = babble(robot=condition.robot, movements=1, seed=seed, schedule=[0, 1], **parameters)
-    return _Plan(condition, length, at, parameters, float(length) * (probe.target.n_joints + 5))
+    return _Plan(condition, robot, length, at, parameters, float(length) * (probe.target.n_joints + 5))
 
 
 def _execute(
@@ -244,7 +288,7 @@ def _check_executor(workers: int | None, scheduler: Any) -> int | None:
 def _assemble(plan: _Plan, seed: int, outputs: Sequence[TrialOutput]) -> TrialSet:
     error = np.array([o[0] for o in outputs])
     return TrialSet(
-        robot=plan.condition.robot,
+        robot=robot_label(plan.condition.robot),
         seed=seed,
         parameters=plan.parameters,
         movements=plan.schedule,
@@ -316,7 +360,7 @@ def run_sweep(
     costs: list[float] = []
     for p in plans:
         for i in range(trials):
-            tasks.append((p.condition.robot, p.movements, seed + i, p.schedule, p.parameters))
+            tasks.append((p.robot, p.movements, seed + i, p.schedule, p.parameters))
             costs.append(p.cost)
     desc = plans[0].condition.label if len(plans) == 1 else f"{len(plans)} conditions"
     journal = None if checkpoint is None else TrialJournal(checkpoint)
@@ -326,7 +370,7 @@ def run_sweep(
 
 
 def run_trials(
-    robot: str = "planar5",
+    robot: Any = "planar5",
     trials: int = 100,
     movements: int = 300,
     seed: int = 0,
@@ -341,7 +385,11 @@ def run_trials(
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
 
     Args:
-        robot: preset name (or ``MODULE:NAME``, or a simulated plant ``ROBOT@mujoco:kp=10``).
+        robot: preset name, MODULE:NAME, a simulated plant (``so101@mujoco:kp=10``), a KinematicTarget
+            loaded from a URDF or example-robot-data (each worker rebuilds it from its robot source,
+            onboarding included), or a
+            :class:`~gb_pin.runs.spec.RunSpec` (then ``movements`` and ``seed`` are the spec's, and no
+            babble arguments are given here).
         trials: number of trials.
         movements: movements per trial.
         seed: seed of trial 0.
@@ -360,8 +408,13 @@ def run_trials(
         A :class:`~gb_pin.experiments.trialset.TrialSet`; identical for any number of
         workers, locally or on Dask.
     """
-    if not isinstance(robot, str):
-        raise InvalidArgumentError(f"robot must be a preset name for run_trials, got {robot!r}")
+    if isinstance(robot, RunSpec):  # the run's one description: its robot, movements and seed too
+        if babble_args:
+            raise InvalidArgumentError(
+                f"give the run as a RunSpec or as arguments, not both: {sorted(babble_args)}"
+            )
+        robot, movements, seed, babble_args = robot.trial_arguments()
+    task_robot(robot)  # a robot that workers cannot rebuild is refused here
     check_parameters(babble_args)
     movements = check.positive_int("movements", movements)
     at = None if schedule is None else tuple(int(s) for s in resolve_schedule(schedule, movements))

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin.experiments.robot_bench import update_document
-from gb_pin.ik.api import DEFAULT_BACKTRACKS, DEFAULT_DAMPING, DEFAULT_TOL
+from gb_pin.ik.api import DEFAULT_BACKTRACKS, DEFAULT_DAMPING, DEFAULT_ERROR_DAMPING, DEFAULT_TOL
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs.api import babble, warmup
@@ -160,7 +160,8 @@ def _paths(
     out = {}
     for s in SEEDS:
         paths = [
-            result.solve_path(X[a], X[b], steps, seed=_seed(s, result.target, steps, rng)) for a, b in pairs
+            result.solve_path(X[a], X[b], steps, seed=_seed(s, result.target, steps, rng), follow=False)
+            for a, b in pairs
         ]
         out[s] = (
             float(np.mean([p.all_solved for p in paths])),
@@ -214,9 +215,9 @@ def format_tables(
     """The markdown tables of docs/IK.md, with the machine and the settings."""
     lines = [
         f"machine: {platform.processor() or platform.machine()}, Python {platform.python_version()}; "
-        f"{movements} movements of babbling per robot (seed 0); tol {DEFAULT_TOL:g} m, damping "
-        f"{DEFAULT_DAMPING:g} m, full steps halved at most {DEFAULT_BACKTRACKS} times, clipped to the "
-        f"limits; whole benchmark {seconds:.0f} s.",
+        f"{movements} movements of babbling per robot (seed 0); tol {DEFAULT_TOL:g} m, lambda^2 = "
+        f"({DEFAULT_DAMPING:g} m)^2 + {DEFAULT_ERROR_DAMPING:g} ||e||^2, full steps halved at most "
+        f"{DEFAULT_BACKTRACKS} times, clipped to the limits, one attempt; whole benchmark {seconds:.0f} s.",
     ]
     by_key = {(r.robot, r.targets, r.seed): r for r in solve_rows}
     robots = list(dict.fromkeys(r.robot for r in solve_rows))

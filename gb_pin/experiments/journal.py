@@ -20,8 +20,10 @@ from gb_pin._files import check_writable, write_text
 from gb_pin.exceptions import ResultFileError
 from gb_pin.experiments._json import check_size, plain
 
-# What one trial needs: (robot name, movements, seed, movement counts to record, babble arguments).
-TrialTask = tuple[str, int, int, NDArray[np.int64], dict[str, Any]]
+# What one trial needs: (robot, movements, seed, movement counts to record, babble arguments); the
+# robot is a preset name, a MODULE:NAME, or the robot source (a JSON object) of a URDF or
+# example-robot-data model (gb_pin.runs.robot_source), which each worker rebuilds.
+TrialTask = tuple[str | dict[str, Any], int, int, NDArray[np.int64], dict[str, Any]]
 # What one trial gives: (E^X at the schedule, D^home at the schedule, prototypes at the end, E^X per
 # task component at the schedule (T, C) for a stacked task, else None).
 TrialOutput = tuple[NDArray[np.float64], NDArray[np.float64], int, NDArray[np.float64] | None]

@@ -29,6 +29,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import write_text
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.experiments.conditions import robot_label
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.learn.goals import make_goals
 from gb_pin.reproduce.cache import GITIGNORE
@@ -72,9 +74,14 @@ def _grid(lower: Sequence[float], upper: Sequence[float], counts: Sequence[int])
     return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(counts))
 
 
-def goal_sets(robot: str) -> dict[str, NDArray[np.float64]]:
-    """The preset's targets ``X*``, the oversized goal set ``O`` and the test grid ``test`` of a robot [m]."""
-    rb = load_robot(robot)
+def goal_sets(robot: Any) -> dict[str, NDArray[np.float64]]:
+    """The preset's targets ``X*``, the oversized goal set ``O`` and the test grid ``test`` of a robot [m].
+
+    ``robot``: a preset name, or a KinematicTarget with targets (e.g. an onboarded URDF or erd model).
+    """
+    rb = load_robot(robot) if isinstance(robot, str) else robot
+    if rb.targets is None:
+        raise InvalidArgumentError(f"the goal study needs a robot with a target set; {rb.name!r} has none")
     star = np.asarray(rb.targets, dtype=float)
     if star.shape[1] == 2:  # planar arms of total length 1 m (issue 11's grids)
         big = _grid([-1.1, -1.1], [1.1, 1.1], [9, 9])
@@ -95,11 +102,12 @@ def schedule(movements: int, per_decade: int = 20) -> tuple[int, ...]:
     return tuple(int(v) for v in np.unique([*pts, *(r for r in READ_AT if r <= movements), movements]))
 
 
-def study_conditions(robot: str, movements: int) -> list[tuple[str, Condition, int | None]]:
+def study_conditions(robot: Any, movements: int) -> list[tuple[str, Condition, int | None]]:
     """The labelled conditions of one robot (with the extras' own trial counts, None: the study's)."""
     sets = goal_sets(robot)
-    keep = ONLY.get(robot)
-    rows = [(*c, None) for c in CONDITIONS if keep is None or c[0] in keep] + list(EXTRAS.get(robot, ()))
+    keep = ONLY.get(robot_label(robot))
+    extras = list(EXTRAS.get(robot_label(robot), ()))
+    rows = [(*c, None) for c in CONDITIONS if keep is None or c[0] in keep] + extras
     out = []
     for label, goals, goal_set, trials in rows:
         params: dict[str, Any] = {"goals": goals, "eval_targets": sets["test"].tolist()}
@@ -114,12 +122,12 @@ def _cache_file(out: str, label: str, cond: Condition, trials: int, seed: int) -
     # The generator's resolved parameters are part of the key: new defaults are new trials.
     spec = cond.parameters.get("goals")
     resolved = None if spec is None else repr(make_goals(spec))
-    key = json.dumps(
-        [cond.robot, dict(cond.parameters), resolved, cond.schedule, trials, seed], sort_keys=True
-    )
+    robot = cond.to_json().get("robot_source", cond.robot)  # a model robot: its source (its digest)
+    key = json.dumps([robot, dict(cond.parameters), resolved, cond.schedule, trials, seed], sort_keys=True)
     slug = "".join(ch if ch.isalnum() else "-" for ch in label)
+    name = "".join(ch if ch.isalnum() or ch == "_" else "-" for ch in robot_label(cond.robot))
     return os.path.join(
-        out, "trials", f"goals_{cond.robot}_{slug}_{hashlib.sha1(key.encode()).hexdigest()[:10]}.json"
+        out, "trials", f"goals_{name}_{slug}_{hashlib.sha1(key.encode()).hexdigest()[:10]}.json"
     )
 
 
@@ -201,7 +209,7 @@ def goal_study(
     movements: int = 10_000,
     seed: int = 0,
     workers: int | None = None,
-    robots: Sequence[str] = ROBOTS,
+    robots: Sequence[Any] = ROBOTS,
     progress: bool = False,
     log: Callable[[str], Any] | None = print,
 ) -> list[str]:
@@ -213,7 +221,7 @@ def goal_study(
         movements: movements per trial (E^X is read at 300, 1000, 3000 and 10^4 where <= this).
         seed: seed of trial 0.
         workers: local processes (default all cores).
-        robots: preset names.
+        robots: preset names, or KinematicTargets with targets (e.g. from a URDF or example-robot-data).
         progress: progress bar.
         log: called with one line per condition (None: silent).
 
@@ -229,15 +237,16 @@ def goal_study(
     results: dict[str, dict[str, dict[str, Any]]] = {}
     files: list[str] = []
     for robot in robots:
+        name = robot_label(robot)
         sets = []
         for label, cond, own in study_conditions(robot, movements):
             t0 = time.perf_counter()
             ts = run_condition(out, label, cond, own or trials, seed, workers, progress)
             sets.append((label, ts))
             final = np.median(ts.error[:, -1])
-            say(f"{robot} {label}: median final E^X {final:.4f} m ({time.perf_counter() - t0:.0f} s)")
-        results[robot] = {label: numbers(ts) for label, ts in sets}
-        files += draw(robot, sets, len(sets[0][1].parameters["eval_targets"]), out)
+            say(f"{name} {label}: median final E^X {final:.4f} m ({time.perf_counter() - t0:.0f} s)")
+        results[name] = {label: numbers(ts) for label, ts in sets}
+        files += draw(name, sets, len(sets[0][1].parameters["eval_targets"]), out)
     body = {"trials": trials, "movements": movements, "seed": seed, "results": results}
     write_text(os.path.join(out, "goals.json"), json.dumps(body, indent=1) + "\n")
     csv = ["robot,condition,trials,movements," + ",".join(f"q{q:g}" for q in QUANTILES)]

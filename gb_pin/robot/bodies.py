@@ -63,6 +63,20 @@ class ChangedBody:
         """f(q_home) [m]."""
         return self.chain.forward(self.home)
 
+    @property
+    def frame_id(self) -> int:
+        """The base's operational frame in its Pinocchio model (viewers draw the frame's orientation).
+
+        Raises:
+            AttributeError: the base has no Pinocchio model (a body of arrays).
+        """
+        return int(self.base.frame_id)
+
+    @property
+    def model(self) -> Any:
+        """The base's Pinocchio model (the model's kinematics, not this body's: for drawing only)."""
+        return self.base.model
+
     def forward(self, q: ArrayLike) -> NDArray[np.float64]:
         """Task-space position(s) of the changed body: (m,) -> (n,), (N, m) -> (N, n) [m]."""
         arr = np.asarray(q, dtype=float)

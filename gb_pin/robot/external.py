@@ -16,10 +16,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.robot.function import _limit
+from gb_pin.robot.function import BlackBox, home_and_limits
 
 
-class ExternalRobot:
+class ExternalRobot(BlackBox):
     """A robot known only by its home, limits, goal set and task dimension (no forward model).
 
     Args:
@@ -35,6 +35,7 @@ class ExternalRobot:
     """
 
     chain = None  # nothing gb_pin can compute: only ask/tell sessions drive it
+    preset: str | None = None  # a preset it was taken from: runs use that preset's learner defaults
 
     def __init__(
         self,
@@ -46,45 +47,28 @@ class ExternalRobot:
         upper: ArrayLike | None = None,
         name: str = "external",
     ) -> None:
-        try:
-            home_arr = np.asarray(home, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InvalidArgumentError(f"home must be a posture vector, got {home!r}") from exc
-        if home_arr.ndim != 1 or home_arr.size == 0:
-            raise InvalidArgumentError(f"home must be a non-empty vector (m,), got shape {home_arr.shape}")
-        m = home_arr.shape[0]
-        self.home: NDArray[np.float64] = check.vector("home", home_arr, m)
-        self.lower: NDArray[np.float64] = _limit("lower", lower, m, -np.inf)
-        self.upper: NDArray[np.float64] = _limit("upper", upper, m, np.inf)
-        if (
-            np.any(self.lower > self.upper)
-            or np.any(self.home < self.lower)
-            or np.any(self.home > self.upper)
-        ):
-            raise InvalidArgumentError(
-                f"need lower <= home <= upper, got lower={self.lower}, home={self.home}, upper={self.upper}"
-            )
+        self.home, self.lower, self.upper = home_and_limits(home, lower, upper)
         self._n = check.positive_int("n_task", n_task, 1, 10**4)
         self.targets: NDArray[np.float64] = check.points("targets", targets, self._n)
         self.name = str(name)
 
-    @property
-    def n_joints(self) -> int:
-        """Number of joints m."""
-        return int(self.home.shape[0])
+    @classmethod
+    def from_preset(cls, name: str) -> ExternalRobot:
+        """The real robot a preset describes: its home, limits and goal set, none of its kinematics.
 
-    @property
-    def n_task(self) -> int:
-        """Task dimension n."""
-        return self._n
+        Runs on it take the preset's learner defaults (e.g. the SO-101's radius).
 
-    def clip(self, q: ArrayLike) -> NDArray[np.float64]:
-        """Posture(s) clipped to the joint limits: what the robot executes."""
-        return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
+        Raises:
+            UnknownRobotError: unknown preset name.
+        """
+        from gb_pin.robot.presets import load_robot
 
-    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
-        """Validate targets: (N, n) finite points [m]."""
-        return check.points(what, targets, self._n)
+        model = load_robot(name)
+        targets = model.targets if model.targets is not None else model.auto_targets()
+        robot = cls(model.home, model.n_task, targets, lower=model.lower, upper=model.upper,
+                    name=f"{name} (hardware)")  # fmt: skip
+        robot.preset = name
+        return robot
 
     def auto_targets(self) -> NDArray[np.float64]:
         """The goal set given at construction."""

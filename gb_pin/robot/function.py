@@ -21,7 +21,35 @@ from gb_pin.exceptions import InvalidArgumentError
 ForwardFunction = Callable[[NDArray[np.float64]], ArrayLike]
 
 
-class FunctionTarget:
+class BlackBox:
+    """What robots known only from outside share: a home, joint limits, a task dimension and a name."""
+
+    home: NDArray[np.float64]
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+    name: str
+    _n: int
+
+    @property
+    def n_joints(self) -> int:
+        """Number of joints m."""
+        return int(self.home.shape[0])
+
+    @property
+    def n_task(self) -> int:
+        """Task dimension n."""
+        return self._n
+
+    def clip(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Posture(s) clipped to the joint limits: what the robot executes."""
+        return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
+
+    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
+        """Validate targets: (N, n) finite points [m] (no reach check: the robot is a black box)."""
+        return check.points(what, targets, self._n)
+
+
+class FunctionTarget(BlackBox):
     """A robot given by its forward model.
 
     Args:
@@ -56,24 +84,7 @@ class FunctionTarget:
             raise InvalidArgumentError(f"forward must be a callable forward(q) -> x, got {forward!r}")
         self.function = forward
         self.name = str(name)
-        try:
-            home_arr = np.asarray(home, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InvalidArgumentError(f"home must be a posture vector, got {home!r}") from exc
-        if home_arr.ndim != 1 or home_arr.size == 0:
-            raise InvalidArgumentError(f"home must be a non-empty vector (m,), got shape {home_arr.shape}")
-        m = home_arr.shape[0]
-        self.home: NDArray[np.float64] = check.vector("home", home_arr, m)
-        self.lower: NDArray[np.float64] = _limit("lower", lower, m, -np.inf)
-        self.upper: NDArray[np.float64] = _limit("upper", upper, m, np.inf)
-        if (
-            np.any(self.lower > self.upper)
-            or np.any(self.home < self.lower)
-            or np.any(self.home > self.upper)
-        ):
-            raise InvalidArgumentError(
-                f"need lower <= home <= upper, got lower={self.lower}, home={self.home}, upper={self.upper}"
-            )
+        self.home, self.lower, self.upper = home_and_limits(home, lower, upper)
         x_home = np.asarray(self._call(self.home), dtype=np.float64)
         if x_home.ndim != 1 or x_home.size == 0:
             raise InvalidArgumentError(f"forward(home) must be a vector (n,), got shape {x_home.shape}")
@@ -116,23 +127,19 @@ class FunctionTarget:
         return target
 
     @property
-    def n_joints(self) -> int:
-        """Number of joints m."""
-        return int(self.home.shape[0])
-
-    @property
-    def n_task(self) -> int:
-        """Task dimension n."""
-        return self._n
-
-    @property
     def home_position(self) -> NDArray[np.float64]:
         """f(q_home) [m]."""
         return self.forward(self.home)
 
     def _call(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         try:
-            x = np.asarray(self.function(q.copy()), dtype=np.float64)
+            raw = self.function(q.copy())
+            if raw is None:
+                raise InvalidArgumentError(
+                    f"forward model {self.name!r} returned None at q = {q.tolist()}: a forward model returns "
+                    "a position; a robot whose readings go missing runs in a session (tell(None))"
+                )
+            x = np.asarray(raw, dtype=np.float64)
         except InvalidArgumentError:
             raise
         except (TypeError, ValueError) as exc:
@@ -166,14 +173,6 @@ class FunctionTarget:
             out[i] = x
         return out[0] if single else out
 
-    def clip(self, q: ArrayLike) -> NDArray[np.float64]:
-        """Posture(s) clipped to the joint limits: what the robot executes."""
-        return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
-
-    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
-        """Validate targets: (N, n) finite points [m] (no reach check: the model is a black box)."""
-        return check.points(what, targets, self._n)
-
     def auto_targets(self) -> NDArray[np.float64]:
         """There is no "auto" grid for a black box.
 
@@ -184,6 +183,28 @@ class FunctionTarget:
 
     def __repr__(self) -> str:
         return f"FunctionTarget({self.name!r}, {self.n_joints} joints, {self.n_task} task axes)"
+
+
+def home_and_limits(
+    home: ArrayLike, lower: ArrayLike | None, upper: ArrayLike | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(home, lower, upper) checked: a finite non-empty posture, limits (-+inf where None) around it.
+
+    Raises:
+        InvalidArgumentError: a bad home or limits, or lower <= home <= upper violated.
+    """
+    try:
+        home_arr = np.asarray(home, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(f"home must be a posture vector, got {home!r}") from exc
+    if home_arr.ndim != 1 or home_arr.size == 0:
+        raise InvalidArgumentError(f"home must be a non-empty vector (m,), got shape {home_arr.shape}")
+    m = home_arr.shape[0]
+    q = check.vector("home", home_arr, m)
+    lo, up = _limit("lower", lower, m, -np.inf), _limit("upper", upper, m, np.inf)
+    if np.any(lo > up) or np.any(q < lo) or np.any(q > up):
+        raise InvalidArgumentError(f"need lower <= home <= upper, got lower={lo}, home={q}, upper={up}")
+    return q, lo, up
 
 
 def _limit(name: str, value: ArrayLike | None, m: int, default: float) -> NDArray[np.float64]:

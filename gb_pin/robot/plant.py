@@ -6,7 +6,7 @@ it. A :class:`Plant` is such an arm for rehearsal and tests: a true body (the mo
 chain with joint zero offsets and scaled link translations, compiled as every chain is) and a
 :class:`~gb_pin.learn.sensor.Sensor`. It is a robot wherever one is accepted: ``babble(plant)``
 learns from the sensor's readings in compiled code, and E^X and every reported error are
-measured on the true body. ``plant.model`` is the robot as its model says it is (for exact IK on
+measured on the true body. ``plant.target`` is the robot as its model says it is (for exact IK on
 the URDF, which misses on the true body); ``plant.observe(q)`` reads the sensor from Python (a
 stand-in for a camera in ask/tell sessions).
 """
@@ -104,7 +104,8 @@ class Plant(ChangedBody):
         name: a label; default derived from the model's.
 
     Attributes:
-        model: the robot as its model says (the URDF's kinematics).
+        target: the robot as its model says (the URDF's kinematics; also ``base``).
+        preset: the model's preset name, when it was given by name (result files record it).
         calibration: the :class:`Miscalibration` of the true body.
         sensor: the :class:`~gb_pin.learn.sensor.Sensor` the learner observes through.
     """
@@ -122,6 +123,7 @@ class Plant(ChangedBody):
         scales: ArrayLike | None = None,
         name: str | None = None,
     ) -> None:
+        self.preset: str | None = robot if isinstance(robot, str) else None
         if isinstance(robot, str):
             from gb_pin.robot.presets import load_robot
 
@@ -140,7 +142,7 @@ class Plant(ChangedBody):
             f"({math.degrees(offset_std):g} deg, {100 * length_std:g} %, seed {seed})"
         )
         super().__init__(robot, calibration.apply(chain), label)
-        self.model = robot
+        self.target = robot
         self.calibration = calibration
         self.sensor = Sensor(noise, loss, np.random.default_rng(sensor_seed))
         self.sensor.std(chain.n_task)  # a per-axis noise of the wrong length is refused now

@@ -338,6 +338,7 @@ def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarg
             preset.axes,
             targets=spec,
             label=name,
+            onboard=False,  # a preset's file states its home, joints and targets: nothing is measured
             **preset.task,
         )
     options = preset.options
@@ -354,6 +355,7 @@ def _load_preset(preset: RobotPreset, m: int | None, name: str) -> KinematicTarg
         floating_base=bool(options.get("floating_base", False)),
         targets=spec,
         name=name,
+        onboard=False,
         **preset.task,
     )
 

@@ -28,7 +28,9 @@ def joint_names(model: pin.Model) -> list[str]:
     return list(model.names)[1:]
 
 
-def select_joints(model: pin.Model, joints: Sequence[str] | None, name: str) -> list[str]:
+def select_joints(
+    model: pin.Model, joints: Sequence[str] | None, name: str, frame: str | None = None
+) -> list[str]:
     """The joints the learner moves: ``joints`` checked, or every joint of the model for None.
 
     Args:
@@ -36,6 +38,7 @@ def select_joints(model: pin.Model, joints: Sequence[str] | None, name: str) -> 
         joints: joint names in the order of q, or None for all (then the model must
             have no free floating base, which would stay unlocked).
         name: the robot's label, for messages.
+        frame: the operational frame, whose joints an error suggests.
 
     Raises:
         UnknownRobotError: an unknown joint name (the closest names listed).
@@ -48,11 +51,11 @@ def select_joints(model: pin.Model, joints: Sequence[str] | None, name: str) -> 
             n for n in full_names if model.joints[model.getJointId(n)].shortname() == "JointModelFreeFlyer"
         ]
         if floating:
-            movable = [n for n in full_names if model.joints[model.getJointId(n)].nv == 1]
             raise InvalidArgumentError(
-                f"model {name!r} has a free floating base {floating[0]!r}, which joints=None would "
-                "leave unlocked: name the joints the learner moves (the base is then locked at the "
-                f"reference posture), e.g. joints={movable[:7]!r}"
+                f"model {name!r} has a free floating base {floating[0]!r}, which moving every joint "
+                "would leave unlocked: name the joints the learner moves (the base is then locked at "
+                f"the reference posture){_frame_joints(model, frame, name)}, or let gb_pin choose them "
+                "(onboard=True; the default of from_urdf, from_example_robot_data and the command line)"
             )
         joints = full_names
     if isinstance(joints, str) or not all(isinstance(j, str) for j in joints):
@@ -68,6 +71,19 @@ def select_joints(model: pin.Model, joints: Sequence[str] | None, name: str) -> 
     for j in joints:  # a clear error before buildReducedModel sees an odd joint
         joint_kind(model.joints[model.getJointId(j)], j)
     return joints
+
+
+def _frame_joints(model: pin.Model, frame: str | None, name: str) -> str:
+    """``, e.g. the 7 that move 'hand': a, b, ...`` (the joints on the frame's path), or ``""``."""
+    from gb_pin.robot.onboarding import path_joints
+
+    if frame is None or not isinstance(frame, str) or not model.existFrame(frame):
+        return ""
+    try:
+        path = path_joints(model, int(model.getFrameId(frame)), name)
+    except InvalidArgumentError:
+        return ""
+    return f", e.g. the {len(path)} that move {frame!r}: {', '.join(path)}"
 
 
 def lock_joints(

@@ -22,10 +22,8 @@ and the home (:mod:`gb_pin.robot.postures`), the moved joints and the reduced mo
 
 from __future__ import annotations
 
-import os
 import warnings
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -35,8 +33,10 @@ from gb_pin import _validation as check
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnreachableTargetWarning
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.robot.chain_reader import JointTable, parse_axes, read_chain, read_joints, read_limits
+from gb_pin.robot.loaders import ModelLoaders
+from gb_pin.robot.onboarding import Onboarding, choose_home, goal_grid, moving_joints, path_joints, record
 from gb_pin.robot.pinocchio_models import PinocchioModels
-from gb_pin.robot.postures import home_posture, reference_posture, to_configuration
+from gb_pin.robot.postures import from_configuration, home_posture, reference_posture, to_configuration
 from gb_pin.robot.reachability import beyond_reach, positions
 from gb_pin.robot.reduction import find_frame, lock_joints, select_joints
 from gb_pin.robot.targets_auto import TargetSpec, auto_grid, auto_task_grid, resolve_targets
@@ -51,7 +51,7 @@ if TYPE_CHECKING:
 # the first 0.1 s of pinocchio's import out of a planar run.
 
 
-class KinematicTarget(PinocchioModels):
+class KinematicTarget(PinocchioModels, ModelLoaders):
     """Forward kinematics of one frame of a Pinocchio model, over the joints the learner moves.
 
     Joints not in ``joints`` (a floating base included) are locked at the reference
@@ -67,17 +67,19 @@ class KinematicTarget(PinocchioModels):
         model: the Pinocchio model (not modified).
         frame: name of the operational frame whose position is the task variable.
         joints: names of the joints the learner moves, in the order of q. ``None``
-            means every joint of the model (all must be 1-DOF: a model with a free
-            floating base must name its joints, so that the base is locked).
+            means the joints that move ``frame`` with ``onboard``, else every joint of
+            the model (all must be 1-DOF: a model with a free floating base must name its
+            joints, so that the base is locked).
         home: the home posture over ``joints`` ([rad] or [m]) or the name of a
-            reference configuration of the model; default the reference posture.
+            reference configuration of the model; default chosen by measurement with
+            ``onboard``, else the reference posture.
         axes: the task coordinates the learner sees, e.g. ``"xy"`` or ``"xyz"``
             (default).
         targets: default target set: an (N, n) array [m] in world coordinates,
             ``"auto"`` (the largest reachable regular grid around the home effector
             position, seeded), or a spec mapping (``lower``/``upper``/``shape`` grid,
-            ``points``, or ``auto`` with ``shape``/``scale``). None: no default set
-            (``babble`` then uses ``"auto"``).
+            ``points``, or ``auto`` with ``shape``/``scale``). None: the onboarding's goal
+            grid with ``onboard``, else no default set (``babble`` then uses ``"auto"``).
         name: a label for messages and saved files.
         task: what x is: None or ``"position"`` (the frame's position on ``axes``),
             ``"pose"`` (position and full orientation of ``frame``), ``"pointing"`` (position
@@ -87,6 +89,9 @@ class KinematicTarget(PinocchioModels):
         orientation_scale: s [m/rad] of the rotational rows of ``"pose"`` and ``"pointing"``
             (default 0.2).
         pointing_axis: the frame axis of ``"pointing"`` (``"x"``, ``"y"``, ``"z"``, ``"-z"`` or a 3-vector).
+        onboard: choose the joints, home and goal grid not given, and the learner's radius, by
+            measurement (:mod:`gb_pin.robot.onboarding`; recorded in :attr:`onboarding`). Default
+            False here, True in :meth:`from_urdf` and :meth:`from_example_robot_data`.
 
     Raises:
         UnknownRobotError: unknown frame or joint name.
@@ -108,6 +113,7 @@ class KinematicTarget(PinocchioModels):
         task: TaskSpec = None,
         orientation_scale: float | None = None,
         pointing_axis: str | ArrayLike = "z",
+        onboard: bool = False,
     ) -> None:
         import pinocchio as pin
 
@@ -115,12 +121,8 @@ class KinematicTarget(PinocchioModels):
             raise InvalidArgumentError(f"model must be a pinocchio.Model, got {type(model).__name__}")
         self.name: str = name if name is not None else (model.name or "robot")
         self.reference: NDArray[np.float64] = reference_posture(model)
-        self.joints: tuple[str, ...] = tuple(select_joints(model, joints, self.name))
-        self._model: pin.Model | None = lock_joints(model, self.joints, self.reference, self.name)
-        self._frame_id: int | None = find_frame(self._model, frame, self.name)
         self.frame: str = frame
         self.chain: KinematicChain
-        self._data: pin.Data | None = None  # created on first use: pinocchio's Data is O(nv^3)
         self._full_model: pin.Model | None = pin.Model(model)
         self._model_source: Callable[[], pin.Model] | None = None
         self.axes: str = parse_axes(axes)
@@ -130,18 +132,30 @@ class KinematicTarget(PinocchioModels):
         self._urdf: str | None = None
         self._package_dirs: list[str] | None = None
         self._auto: NDArray[np.float64] | None = None
-        self._read_kinematics()
-        limits = (self.lower, self.upper)
-        self.home: NDArray[np.float64] = home_posture(
-            home, model, self.reference, self.joints, self._table.continuous, limits, self.name
-        )
+        pick = onboard and joints is None
+        if pick:
+            joints = path_joints(model, find_frame(model, frame, self.name), self.name)
+        self._reduce(select_joints(model, joints, self.name, frame))
+        dropped = self._drop_still_joints() if pick else ()
+        choice = None
+        if onboard and home is None:
+            ref = from_configuration(self.reference, model, self._full_ids, self._table.continuous)
+            choice = choose_home(self, ref)
+            self.home: NDArray[np.float64] = choice.home
+        else:
+            limits = (self.lower, self.upper)
+            self.home = home_posture(
+                home, model, self.reference, self.joints, self._table.continuous, limits, self.name
+            )
         if self.task is not None:
             from gb_pin.robot.task_reader import stack_task
 
             self.chain = stack_task(self.chain, self.model, self.task, self.home, self.name)
+        grid = goal_grid(self) if onboard and targets is None and self.task is None else None
         self.targets: NDArray[np.float64] | None = (
-            None if targets is None else resolve_targets(targets, self, what="targets")
+            grid.targets if grid is not None else None if targets is None else resolve_targets(targets, self)
         )
+        self.onboarding: Onboarding | None = record(pick, dropped, choice, grid, self) if onboard else None
 
     @classmethod
     def _from_arrays(
@@ -186,9 +200,29 @@ class KinematicTarget(PinocchioModels):
         self._urdf = None
         self._package_dirs = None
         self._auto = None
+        self.onboarding = None
         self.home = home_posture(home, None, self.reference, self.joints, table.continuous, limits, name)
         self.targets = None if targets is None else resolve_targets(targets, self, what="targets")
         return self
+
+    def _reduce(self, joints: Sequence[str]) -> None:
+        """Lock every joint of the full model but ``joints`` and read the learner's view of the rest."""
+        self.joints: tuple[str, ...] = tuple(joints)
+        self._model: pin.Model | None = lock_joints(self.full_model, self.joints, self.reference, self.name)
+        self._frame_id: int | None = find_frame(self._model, self.frame, self.name)
+        self._data: pin.Data | None = None  # created on first use: pinocchio's Data is O(nv^3)
+        self._read_kinematics()
+
+    def _drop_still_joints(self) -> tuple[str, ...]:
+        """Onboarding: lock the joints that do not move the frame (measured); returns their names."""
+        moves = moving_joints(self)
+        if moves.all():
+            return ()
+        if not moves.any():
+            raise InvalidArgumentError(f"no joint of {self.name!r} moves frame {self.frame!r}: choose one")
+        dropped = tuple(j for j, k in zip(self.joints, moves, strict=True) if not k)
+        self._reduce([j for j, k in zip(self.joints, moves, strict=True) if k])
+        return dropped
 
     def _read_kinematics(self) -> None:
         """The learner's view of the reduced model: joint kinds and axes, limits, the chain."""
@@ -201,123 +235,6 @@ class KinematicTarget(PinocchioModels):
         self.lower: NDArray[np.float64] = limits[0]
         self.upper: NDArray[np.float64] = limits[1]
         self.chain = read_chain(self.model, self._table, self.frame_id, self.axes)
-
-    # -- other constructors ---------------------------------------------------------
-    @classmethod
-    def from_urdf(
-        cls,
-        path: str | os.PathLike[str],
-        frame: str,
-        joints: Sequence[str] | None = None,
-        home: ArrayLike | str | None = None,
-        axes: str | None = None,
-        package_dirs: Sequence[str | os.PathLike[str]] | None = None,
-        *,
-        srdf: str | os.PathLike[str] | None = None,
-        floating_base: bool = False,
-        targets: TargetSpec = None,
-        name: str | None = None,
-        task: TaskSpec = None,
-        orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
-    ) -> KinematicTarget:
-        """A target from a URDF file (kinematics only: no mesh is loaded).
-
-        Args:
-            path: the URDF file.
-            frame: operational frame (a link name or any frame of the model).
-            joints: joints the learner moves (see the class); default every joint.
-            home: home posture over ``joints`` or a reference configuration name.
-            axes: task axes, default ``"xyz"``.
-            package_dirs: where ``package://`` mesh paths resolve; used only by
-                :meth:`visual_model`.
-            srdf: SRDF file whose group states become reference configurations
-                (e.g. ``half_sitting``).
-            floating_base: add a free-flyer root joint (a mobile robot); then name
-                ``joints`` (the base is locked at the reference posture).
-            targets: default target set (see the class).
-            name: label; default the file's stem.
-            task: what x is (see the class).
-            orientation_scale: s [m/rad] of ``"pose"`` and ``"pointing"`` (see the class).
-            pointing_axis: the frame axis of ``"pointing"`` (see the class).
-
-        Raises:
-            InvalidArgumentError: missing or malformed URDF/SRDF, or any constructor error.
-        """
-        from gb_pin.robot.models import load_urdf_model
-
-        model = load_urdf_model(path, srdf=srdf, floating_base=floating_base)
-        target = cls(
-            model,
-            frame,
-            joints,
-            home,
-            axes,
-            targets=targets,
-            name=name if name is not None else Path(os.fspath(path)).stem,
-            task=task,
-            orientation_scale=orientation_scale,
-            pointing_axis=pointing_axis,
-        )
-        target._urdf = os.fspath(path)
-        target._package_dirs = None if package_dirs is None else [os.fspath(p) for p in package_dirs]
-        return target
-
-    @classmethod
-    def from_example_robot_data(
-        cls,
-        name: str,
-        frame: str,
-        joints: Sequence[str] | None = None,
-        home: ArrayLike | str | None = None,
-        axes: str | None = None,
-        *,
-        targets: TargetSpec = None,
-        label: str | None = None,
-        task: TaskSpec = None,
-        orientation_scale: float | None = None,
-        pointing_axis: str | ArrayLike = "z",
-    ) -> KinematicTarget:
-        """A target from a robot of the example-robot-data package (e.g. ``"talos"``, ``"panda"``).
-
-        Mobile robots (humanoids, quadrupeds) get a free-flyer root joint, as in
-        example-robot-data's own loaders, and their SRDF reference configurations
-        (``half_sitting``): name the ``joints`` to move; everything else, the base
-        included, is locked at the reference posture.
-
-        Args:
-            name: the robot's name, see :data:`gb_pin.robot.models.DESCRIPTIONS`.
-            frame: operational frame.
-            joints: joints the learner moves.
-            home: home posture over ``joints`` or a reference configuration name.
-            axes: task axes, default ``"xyz"``.
-            targets: default target set (see the class).
-            label: the target's name for messages; default ``name``.
-            task: what x is (see the class).
-            orientation_scale: s [m/rad] of ``"pose"`` and ``"pointing"`` (see the class).
-            pointing_axis: the frame axis of ``"pointing"`` (see the class).
-
-        Raises:
-            UnknownRobotError: unknown robot, frame or joint (closest names listed).
-            InvalidArgumentError: any other constructor error.
-        """
-        from gb_pin.robot.models import load_example_robot
-
-        model, _, urdf = load_example_robot(name)
-        target = cls(
-            model,
-            frame,
-            joints,
-            home,
-            axes,
-            targets=targets,
-            name=label if label is not None else name,
-            task=task,
-            orientation_scale=orientation_scale,
-            pointing_axis=pointing_axis,
-        )
-        target._urdf = str(urdf)
-        return target
 
     # -- public API ---------------------------------------------------------------
     @property
@@ -336,6 +253,13 @@ class KinematicTarget(PinocchioModels):
         if self.task is None:
             return (f"position {self.frame}",)
         return tuple(component_label(spec) for spec in self.task)
+
+    @property
+    def learner_defaults(self) -> dict[str, float]:
+        """Learner defaults: the radius (and sigma) onboarding chose; ``babble`` uses them unless given."""
+        record = self.onboarding
+        values = {} if record is None else {"radius": record.radius, "sigma": record.sigma}
+        return {k: v for k, v in values.items() if v is not None}
 
     @property
     def home_position(self) -> NDArray[np.float64]:

@@ -90,12 +90,15 @@ class AutoGrid:
         center: (n,) the home effector position [m].
         half_width: half the grid's edge [m].
         shape: points per task axis.
+        largest_half_width: the largest reachable half-width found [m] (``half_width`` is a
+            ``scale`` of it).
     """
 
     targets: NDArray[np.float64]
     center: NDArray[np.float64]
     half_width: float
     shape: tuple[int, ...]
+    largest_half_width: float = math.nan
 
     @property
     def lower(self) -> NDArray[np.float64]:
@@ -167,7 +170,13 @@ def auto_grid(
             f"{center.round(4).tolist()}: the home is at the border of the workspace; choose a home inside it"
         )
     h = chosen * resolution
-    return AutoGrid(targets=regular_grid(center, h, counts), center=center, half_width=h, shape=counts)
+    return AutoGrid(
+        targets=regular_grid(center, h, counts),
+        center=center,
+        half_width=h,
+        shape=counts,
+        largest_half_width=lo * resolution,
+    )
 
 
 _SPEC_KEYS = ("lower", "upper", "shape", "points", "auto", "scale", "seed", "turn", "mirror")

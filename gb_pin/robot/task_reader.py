@@ -124,7 +124,7 @@ def pinocchio_task_vector(
     assert comps is not None
     out = []
     for k, spec in enumerate(specs):
-        oMf = data.oMf[model.getFrameId(spec.frame)]
+        oMf = data.oMf[find_frame(model, str(spec.frame), "the model")]  # the specs are resolved
         if isinstance(spec, Position):
             out.extend(oMf.translation[[AXIS_INDEX[a] for a in spec.axes]])
         elif isinstance(spec, Orientation):

@@ -79,6 +79,15 @@ def _read_members(path: str, kind: str) -> dict[str, Any]:
     return arrays
 
 
+# (format expected, format found): what the file is, and what to do with it.
+_OTHER_FORMAT = {
+    ("gb_pin.result", "gb_pin.checkpoint"): "a checkpoint, not a result file: finish its run with "
+    "`gb-pin babble --resume FILE --out run.npz` (gb_pin.resume in Python), then use run.npz",
+    ("gb_pin.checkpoint", "gb_pin.result"): "a result file, not a checkpoint: its run is finished; "
+    "extend it with `gb-pin babble --continue FILE --movements N` (babble(init=load_result(...)))",
+}
+
+
 def read_archive(
     path: str, kind: str, fmt: str, max_version: int, required: tuple[str, ...] = ()
 ) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -117,6 +126,9 @@ def read_archive(
         raise ResultFileError(f"{path}: not a readable gb_pin {kind} ({type(exc).__name__}: {exc})") from exc
     meta = _header(path, kind, arrays.pop("meta", None))
     if meta.get("format") != fmt:
+        hint = _OTHER_FORMAT.get((fmt, str(meta.get("format"))))
+        if hint is not None:
+            raise ResultFileError(f"{path}: {hint.replace('FILE', path)}")
         raise ResultFileError(f"{path}: not a gb_pin {kind} (header {str(meta)[:80]!r})")
     version = meta.get("format_version")
     if not isinstance(version, int) or isinstance(version, bool):

@@ -76,19 +76,45 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
         "seed": info.seed,
         "config": info.config.as_dict(),
         "wall_time": info.wall_time,
-        "rng": state.rng_state(),
-        "goals": {"name": state.goals.name, "params": state.goals.get_params()},
+        **state_header(state),
         "evaluate": info.evaluate,
         "unobserved": info.unobserved,
     }
-    if state.sensor is not None:
-        meta["sensor_rng"] = state.sensor_rng_state()
     if info.source is not None:
         meta["robot_source"] = info.source
     arrays = dict(state.to_arrays())
     for key, value in (info.robot_state or {}).items():
         arrays[ROBOT_STATE + key] = value
     atomic_savez(os.fspath(path), arrays, meta)
+
+
+def state_header(state: BabbleState) -> dict[str, Any]:
+    """The header entries of a state beside its arrays: the random generators' states and the goals."""
+    header: dict[str, Any] = {
+        "rng": state.rng_state(),
+        "goals": {"name": state.goals.name, "params": state.goals.get_params()},
+    }
+    if state.sensor is not None:
+        header["sensor_rng"] = state.sensor_rng_state()
+    return header
+
+
+def read_state(
+    path: str, arrays: dict[str, Any], header: dict[str, Any], config: BabbleConfig
+) -> BabbleState:
+    """The state whose arrays and :func:`state_header` entries a file holds, checked.
+
+    Raises:
+        ResultFileError, InvalidArgumentError: corrupted entries (arrays out of range, a bad generator).
+        KeyError, TypeError, ValueError: missing or malformed entries (the caller names the file).
+    """
+    goals = header.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
+    if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
+        raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
+    generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
+    return BabbleState.from_arrays(
+        arrays, config, header["rng"], goals=generator, sensor_rng=header.get("sensor_rng")
+    )
 
 
 def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, CheckpointInfo]:
@@ -117,13 +143,7 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             unobserved=fields.count(path, meta, "unobserved") if "unobserved" in meta else 0,
             robot_state=own or None,
         )
-        goals = meta.get("goals")  # files of gb_pin 0.1 have none: the paper's uniform choice
-        if goals is not None and not (isinstance(goals, dict) and isinstance(goals.get("params"), dict)):
-            raise ResultFileError(f"{path}: corrupted goal generator entry {goals!r}")
-        generator = None if goals is None else make_goals(goals.get("name"), goals["params"])
-        state = BabbleState.from_arrays(
-            arrays, config, meta["rng"], goals=generator, sensor_rng=meta.get("sensor_rng")
-        )
+        state = read_state(path, arrays, meta, config)
     except GbPinError as exc:
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:

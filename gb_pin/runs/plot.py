@@ -22,6 +22,7 @@ from gb_pin._files import atomic_write
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 if TYPE_CHECKING:
+    from gb_pin.learn.history import History
     from gb_pin.runs.result import BabbleResult
 
 ERROR_COLOR = "#1f4e9c"
@@ -112,8 +113,20 @@ def save_figure(fig: Any, path: str | os.PathLike[str]) -> str:
 def plot_result(result: BabbleResult, path: str | os.PathLike[str] | None = None, ax: Any = None) -> Any:
     """E^X and D^home of one run over movements (log axes), titled with robot, movements and final E^X.
 
+    See :func:`plot_history` (``result``'s history, robot name and movements).
+    """
+    return plot_history(result.history, result.robot or result.target.name, result.movements, path, ax)
+
+
+def plot_history(
+    history: History, name: str, movements: int, path: str | os.PathLike[str] | None = None, ax: Any = None
+) -> Any:
+    """E^X and D^home of one run over movements (log axes), titled with robot, movements and final E^X.
+
     Args:
-        result: the run.
+        history: the run's E^X and D^home (:class:`~gb_pin.learn.history.History`).
+        name: the robot's name, for the title.
+        movements: movements run, for the title.
         path: write the figure there (``.png``, ``.svg`` or ``.pdf``), if given.
         ax: draw into these matplotlib axes (E^X on them, D^home on a twin axis); default: a new
             figure with two panels.
@@ -124,7 +137,7 @@ def plot_result(result: BabbleResult, path: str | os.PathLike[str] | None = None
     Raises:
         GbPinError: matplotlib is not installed (``pip install 'gb_pin[plots]'``).
     """
-    h = result.history
+    h = history
     keep = h.movements > 0  # movement 0 has no place on a log axis
     x = h.movements[keep]
     fig, err_ax, home_ax = _axes(ax)
@@ -135,10 +148,10 @@ def plot_result(result: BabbleResult, path: str | os.PathLike[str] | None = None
     err_ax.axhline(0.1 * e0, color="0.4", lw=0.8, ls=":", label="0.1 $E_0$")
     home_ax.plot(x, h.home_distance[keep], color=HOME_COLOR, lw=2.0, label="$D^{home}$")
     _style(err_ax, home_ax, twin)
-    name = result.robot or result.target.name
+    error, home = float(h.error[-1]), float(h.home_distance[-1])
     title = (
-        f"{name}: {result.movements} movements, final $E^X$ = {result.error:.4g} m "
-        f"({result.error / e0:.1%} of $E_0$), $D^{{home}}$ = {result.home_distance:.3g} rad"
+        f"{name}: {movements} movements, final $E^X$ = {error:.4g} m "
+        f"({error / e0:.1%} of $E_0$), $D^{{home}}$ = {home:.3g} rad"
     )
     return _finish(fig, (err_ax, home_ax), title, path, twin)
 

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin.ik.api import DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_TOL, Seed, solve, solve_path
 from gb_pin.ik.solution import IKPath, IKSolution
 from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.feedback import DEFAULT_OBSERVATIONS, ReachResult, reach
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.state import BabbleState
@@ -37,7 +38,8 @@ class BabbleResult:
         wall_time: seconds spent babbling (compilation excluded after the first call).
         recording: the recorded steps, if ``record`` was given.
         state: the run's final :class:`~gb_pin.learn.state.BabbleState` (map, noise, random
-            stream, posture), for ``babble(..., init=result)``; None for results read from files.
+            stream, posture), for ``babble(..., init=result)``; result files hold it, so that
+            ``babble(init=load_result(path))`` continues a saved run (None for older files).
         goals: the goal generator, e.g. ``"DirectionGoals(distance=0.2, snap=0.05)"``; None for
             the paper's uniform choice.
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
@@ -61,6 +63,28 @@ class BabbleResult:
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
     missing: int = 0
 
+    def __repr__(self) -> str:
+        """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
+        e0 = float(self.history.error[0])
+        share = f", {self.error / e0:.1%} of E_0" if e0 > 0 else ""
+        recorded = "None" if self.recording is None else f"<{len(self.recording.step)} steps>"
+        goal_set = "" if self.goal_targets is None else f", goal_targets=<{_shape(self.goal_targets)} array>"
+        return "\n".join(
+            [
+                "BabbleResult(",
+                f"  target={self.target!r}, robot={self.robot!r},",
+                f"  movements={self.movements}, steps={self.steps}, seed={self.seed!r}, "
+                f"wall_time={self.wall_time:.3g} s,",
+                f"  error={self.error:.4g} m (E^X; E_0 = {e0:.4g} m{share}), "
+                f"home_distance={self.home_distance:.4g} rad, n_prototypes={self.n_prototypes},",
+                f"  targets=<{_shape(self.targets)} array>, history=<{len(self.history.movements)} records>, "
+                f"recording={recorded}{goal_set},",
+                f"  config={self.config!r},",
+                f"  goals={self.goals!r},",
+                ")",
+            ]
+        )
+
     def inverse(self, X: ArrayLike) -> NDArray[np.float64]:
         """Postures g(X) suggested by the inverse estimate: (N, n) -> (N, m), (n,) -> (m,)."""
         return self.model.predict(X)
@@ -79,6 +103,16 @@ class BabbleResult:
     def n_prototypes(self) -> int:
         """Number of local linear models K."""
         return self.model.n_prototypes_
+
+    def diagnose(self) -> str | None:
+        """Why the run stayed degenerate and what to try, in one line; None if it learned.
+
+        Degenerate: E^X above half of E_0, or at most 5 local models, after 100 movements or more
+        (:mod:`gb_pin.runs.diagnosis`); ``gb-pin babble`` ends such a run with this warning.
+        """
+        from gb_pin.runs.diagnosis import diagnose
+
+        return diagnose(self)
 
     def task_errors(self) -> Any:
         """Final errors per task component over ``targets``: positions [m], rotations [deg] (docs/TASKS.md).
@@ -122,15 +156,18 @@ class BabbleResult:
         max_iterations: int = DEFAULT_MAX_ITERATIONS,
         seed: Seed = "learned",
         damping: float = DEFAULT_DAMPING,
+        **options: Any,
     ) -> IKSolution:
         """Exact postures for targets: g(x*) refined on the robot's kinematics (docs/IK.md).
 
         Args:
-            X: (N, n) targets or one (n,) target [m].
-            tol: success when ||x* - f(q)|| <= tol [m].
-            max_iterations: the most damped least-squares steps per target.
-            seed: ``"learned"`` (g(x*)), ``"home"``, or postures (m,) / (N, m).
+            X: (N, n) targets or one (n,) target, in the task vector (positions [m], poses, ...).
+            tol: success when every position is within ``tol`` [m] (and rotations within ``angle_tol``).
+            max_iterations: the most damped least-squares steps from one seed.
+            seed: ``"learned"`` (g(x*)), ``"nearest"``, ``"home"``, ``"middle"``, or postures (m,) / (N, m).
             damping: lambda of the damped least squares [m].
+            **options: the other settings of :func:`gb_pin.ik.solve` (``angle_tol``, ``timeout``,
+                ``max_restarts``, ``solutions``, ``closest_to``, ``min_distance``, ``rng``, ...).
 
         Returns:
             An :class:`~gb_pin.ik.solution.IKSolution` (see :func:`gb_pin.ik.solve`).
@@ -143,6 +180,7 @@ class BabbleResult:
             tol=tol,
             max_iterations=max_iterations,
             damping=damping,
+            **options,
         )
 
     def solve_path(
@@ -152,20 +190,47 @@ class BabbleResult:
         steps: int = 50,
         tol: float = DEFAULT_TOL,
         seed: Seed = "learned",
+        **options: Any,
     ) -> IKPath:
-        """A joint path along the line from ``start`` to ``end``, each point seeded by g(x*) and refined.
+        """A joint path along the line from ``start`` to ``end`` (see :func:`gb_pin.ik.solve_path`).
 
         Args:
-            start: (n,) first point [m].
-            end: (n,) last point [m].
+            start: (n,) first point (task vector).
+            end: (n,) last point.
             steps: points on the line, ends included.
-            tol: success when ||x* - f(q)|| <= tol [m].
-            seed: ``"learned"``, ``"home"``, or postures (m,) / (steps, m).
+            tol: success when every position is within ``tol`` [m].
+            seed: the first point's seed: ``"learned"``, ``"home"``, or postures (m,) / (steps, m).
+            **options: ``follow`` and the settings of :func:`gb_pin.ik.solve`.
 
         Returns:
             An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
         """
-        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol)
+        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol, **options)
+
+    def reach(
+        self,
+        X: ArrayLike,
+        observe: Any,
+        observations: Any = DEFAULT_OBSERVATIONS,
+        **options: Any,
+    ) -> ReachResult:
+        """Reach targets by feedback on the learned model, the robot driven by ``observe(q) -> x or None``.
+
+        g(x*) first, then corrections q += dg/dx (x* - mean of k readings) (:mod:`gb_pin.learn.feedback`):
+        no kinematic model, sub-millimetre on a mis-modelled arm (docs/HARDWARE.md).
+
+        Args:
+            X: (N, n) targets or one (n,) target [m].
+            observe: executes a posture (m,) and returns the reading (n,) [m], or None when it is lost.
+            observations: readings averaged before each correction, e.g. (1, 1, 3).
+            **options: ``gain``, ``max_joint_step`` with ``start``, ``retries``
+                (:class:`~gb_pin.learn.feedback.FeedbackReach`).
+
+        Returns:
+            A :class:`~gb_pin.learn.feedback.ReachResult` (postures, initial, readings, reached).
+        """
+        lower, upper = self.target.lower, self.target.upper
+        return reach(self.model, X, observe, lower, upper, observations=observations, **options)
 
 
 def save_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
@@ -209,3 +274,8 @@ def goal_fields(state: BabbleState) -> dict[str, Any]:
         "goals": None if default else repr(state.goals),
         "goal_targets": None if same or not state.goals.needs_targets else state.targets,
     }
+
+
+def _shape(array: NDArray[np.float64]) -> str:
+    """``27 x 3``: an array's shape for :meth:`BabbleResult.__repr__`."""
+    return " x ".join(str(s) for s in np.shape(array))

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
 
 FORMAT = "gb_pin.result"
 FORMAT_VERSION = 1
+STATE = "state_"  # the final state's arrays, as a checkpoint holds them, prefixed (older files: none)
 _KEYS = (
     "meta",
     "movements",
@@ -64,6 +65,11 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         extra["goal_targets"] = result.goal_targets
     if result.goals is not None:  # a goal generator other than the paper's
         meta["goals"] = result.goals
+    if result.state is not None:  # the final state: babble(init=load_result(...)) continues the run
+        from gb_pin.runs.checkpoint import state_header
+
+        extra.update({STATE + k: v for k, v in result.state.to_arrays().items()})
+        meta["state"] = state_header(result.state)
     atomic_savez(
         path,
         {
@@ -139,6 +145,7 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             goal_targets=fields.targets(path, arrays, target.n_task, "goal_targets")
             if "goal_targets" in arrays
             else None,
+            state=_state(path, arrays, meta, config, target),
             missing=fields.count(path, meta, "missing") if "missing" in meta else 0,
         )
     except GbPinError as exc:
@@ -147,6 +154,40 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
+
+
+def read_curves(path: str | os.PathLike[str]) -> tuple[History, str, int]:
+    """(the history E^X / D^home, the robot's name, movements) of a result file, no robot rebuilt.
+
+    Raises:
+        ResultFileError: missing, truncated, corrupted, foreign or newer-version file.
+    """
+    path = os.fspath(path)
+    arrays, meta = read_archive(path, "result file", FORMAT, FORMAT_VERSION, required=_KEYS[1:])
+    try:
+        name = fields.optional_str(path, meta, "robot") or fields.optional_str(path, meta, "target_name")
+        moves, error, home_distance = fields.history(path, arrays)
+        history = History(movements=moves, error=error, home_distance=home_distance)
+        return history, str(name or "robot"), fields.count(path, meta, "movements")
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
+
+
+def _state(path: str, arrays: dict[str, Any], meta: dict[str, Any], config: BabbleConfig, target: Any) -> Any:
+    """The run's final state the file holds (None for files without one), checked against the robot."""
+    header = meta.get("state")
+    if header is None:
+        return None
+    from gb_pin.runs.checkpoint import read_state
+
+    if not isinstance(header, dict):
+        raise ResultFileError(f"{path}: state must be an object, got {str(header)[:80]!r}")
+    state = read_state(
+        path, {k[len(STATE) :]: v for k, v in arrays.items() if k.startswith(STATE)}, header, config
+    )
+    if (state.home.shape[0], state.targets.shape[1]) != (target.n_joints, target.n_task):
+        raise ResultFileError(f"{path}: the final state is of another number of joints or task axes")
+    return state
 
 
 def _rebuild(path: str, robot: str | None, source: dict[str, Any] | None, name: Any) -> Any:

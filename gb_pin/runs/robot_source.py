@@ -7,13 +7,18 @@ in the header's ``robot_source``, a small JSON object saying how to build it aga
   :meth:`~gb_pin.robot.target.KinematicTarget.from_urdf`;
 - ``{"kind": "erd", "robot": NAME, "frame", "joints", "home", "axes", "name", "chain_sha256"}``:
   :meth:`~gb_pin.robot.target.KinematicTarget.from_example_robot_data`;
-- ``{"kind": "module", "spec": "MODULE:NAME"}``: a robot of :mod:`gb_pin.robot.spec`.
+- ``{"kind": "module", "spec": "MODULE:NAME"}``: a robot of :mod:`gb_pin.robot.spec`;
+- ``{"kind": "plant", "base": PRESET or a urdf/erd source, "offsets", "scales", "noise", "loss", "seed",
+  "name", "chain_sha256"}``: a :class:`~gb_pin.robot.plant.Plant` (a mis-calibrated body and its sensor).
 
 ``home`` is the resolved home posture (numbers over ``joints``), ``chain_sha256`` the digest of the
 kinematic chain the run learned on: a rebuilt robot whose kinematics differ (the URDF was edited) is
-refused, never silently used. A file is untrusted input: :func:`check` validates every entry (types,
-lengths, values) before anything is built. A module spec is never imported on a file's word (importing
-runs the module's code): the user passes that robot (``--robot MODULE:NAME``, ``target=``).
+refused, never silently used. An onboarded robot (:mod:`gb_pin.robot.onboarding`) adds ``onboarding``,
+what was chosen by measurement (the goal grid's half-width and shape, the radius...): the rebuilt robot
+has the same goal grid and radius without measuring again. A file is untrusted input: :func:`check`
+validates every entry (types, lengths, values) before anything is built. A module spec is never
+imported on a file's word (importing runs the module's code): the user passes that robot (``--robot
+MODULE:NAME``, ``target=``).
 """
 
 from __future__ import annotations
@@ -34,10 +39,12 @@ MAX_TEXT = 4096  # characters of a path or a module spec
 MAX_NAME = 256  # characters of a robot, frame or joint name
 MAX_JOINTS = 4096
 _KEYS = {
-    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256"},
-    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256"},
+    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
+    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
     "module": {"kind", "spec"},
+    "plant": {"kind", "base", "offsets", "scales", "noise", "loss", "seed", "name", "chain_sha256"},
 }
+MAX_GRID_COUNT = 1000  # points per axis of a recorded goal grid
 
 
 def chain_digest(chain: Any) -> str:
@@ -71,11 +78,14 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
     URDF and example-robot-data targets are described by their file (or erd name), frame, joints,
     home, axes and name; robots loaded by ``MODULE:NAME`` by their spec (a ``.py`` path made absolute).
     """
+    from gb_pin.robot.plant import Plant
     from gb_pin.robot.spec import spec_of
     from gb_pin.robot.target import KinematicTarget
 
     if robot is not None:
         return None
+    if isinstance(target, Plant):
+        return _describe_plant(target)
     spec = spec_of(target)
     if spec is not None:
         module, _, attr = spec.rpartition(":")
@@ -84,7 +94,7 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return {"kind": "module", "spec": spec} if _printable(spec, MAX_TEXT) else None
     if not isinstance(target, KinematicTarget) or target.urdf is None:
         return None
-    common = {
+    common: dict[str, Any] = {
         "frame": target.frame,
         "joints": list(target.joints),
         "home": [float(v) for v in target.home],
@@ -92,6 +102,8 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         "name": target.name,
         "chain_sha256": chain_digest(target.chain),
     }
+    if target.onboarding is not None:
+        common["onboarding"] = target.onboarding.to_json()
     erd = _erd_name(target.urdf)
     if erd is not None:
         source = {"kind": "erd", "robot": erd, **common}
@@ -101,6 +113,77 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return check("robot_source", source)
     except ResultFileError:
         return None
+
+
+def _describe_plant(plant: Any) -> dict[str, Any] | None:
+    """A plant's source: its model (a preset's name or a model's source) and how it differs, or None."""
+    model = plant.target
+    base: Any = plant.preset if plant.preset is not None else describe(model, None)
+    if base is None or (isinstance(base, dict) and base["kind"] not in ("urdf", "erd")):
+        return None
+    source = {
+        "kind": "plant",
+        "base": base,
+        "offsets": [float(v) for v in plant.calibration.offsets],
+        "scales": [float(v) for v in plant.calibration.scales],
+        "noise": [float(v) for v in np.atleast_1d(plant.sensor.noise)],
+        "loss": float(plant.sensor.loss),
+        "seed": int(plant.seed),
+        "name": plant.name,
+        "chain_sha256": chain_digest(plant.chain),
+    }
+    try:
+        return check("robot_source", source)
+    except ResultFileError:
+        return None
+
+
+def _numbers(path: str, value: Any, key: str, count: int | None, minimum: float) -> None:
+    ok = isinstance(value, list) and (count is None or len(value) == count) and 0 < len(value) <= MAX_JOINTS
+    real = (isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value or ())
+    if not ok or not all(real) or min(value) < minimum:
+        raise _fail(path, key, value, f"a list of finite numbers >= {minimum:g}")
+
+
+def _check_plant(path: str, value: dict[str, Any]) -> dict[str, Any]:
+    base = value.get("base")
+    if isinstance(base, dict):
+        if base.get("kind") not in ("urdf", "erd"):
+            raise _fail(path, "base", base, "a preset name or a urdf / erd source")
+        check(path, base)
+    elif not (_printable(base, MAX_NAME) and re.fullmatch(r"[A-Za-z0-9_]+", str(base))):
+        raise _fail(path, "base", base, "a preset name or a urdf / erd source")
+    _numbers(path, value.get("offsets"), "offsets", None, -math.pi)
+    _numbers(path, value.get("scales"), "scales", len(value["offsets"]) + 1, 1e-6)
+    _numbers(path, value.get("noise"), "noise", None, 0.0)
+    loss = value.get("loss")
+    if isinstance(loss, bool) or not isinstance(loss, int | float) or not 0 <= loss < 1:
+        raise _fail(path, "loss", loss, "a probability in [0, 1)")
+    seed = value.get("seed")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise _fail(path, "seed", seed, "an integer in [0, 2^63)")
+    _text(path, value, "name", MAX_NAME)
+    digest = value.get("chain_sha256")
+    if not isinstance(digest, str) or not re.fullmatch("[0-9a-f]{64}", digest):
+        raise _fail(path, "chain_sha256", digest, "64 hexadecimal digits")
+    return dict(value)
+
+
+def _rebuild_plant(path: str, source: dict[str, Any]) -> Any:
+    from gb_pin.robot.plant import Plant
+    from gb_pin.robot.presets import load_robot
+
+    base = source["base"]
+    try:
+        model = load_robot(base) if isinstance(base, str) else rebuild(path, base)
+        noise = source["noise"][0] if len(source["noise"]) == 1 else source["noise"]
+        plant = Plant(model, offsets=source["offsets"], scales=source["scales"], noise=noise,
+                      loss=source["loss"], seed=source["seed"], name=source["name"])  # fmt: skip
+    except (GbPinError, OSError, ValueError) as exc:
+        raise ResultFileError(f"{path}: cannot rebuild the run's plant {source['name']!r} ({exc})") from exc
+    if chain_digest(plant.chain) != source["chain_sha256"]:
+        raise ResultFileError(f"{path}: the rebuilt plant's kinematics differ from the run's (model edited?)")
+    return plant
 
 
 def _erd_name(urdf: str) -> str | None:
@@ -148,6 +231,8 @@ def check(path: str, value: Any) -> dict[str, Any] | None:
     extra = sorted(set(value) - _KEYS[kind])
     if extra:
         raise _fail(path, "keys", extra, f"among {sorted(_KEYS[kind])}")
+    if kind == "plant":
+        return _check_plant(path, value)
     if kind == "module":
         if ":" not in _text(path, value, "spec", MAX_TEXT):
             raise _fail(path, "spec", value["spec"], "MODULE:NAME")
@@ -178,11 +263,59 @@ def check(path: str, value: Any) -> dict[str, Any] | None:
     digest = value.get("chain_sha256")
     if not isinstance(digest, str) or not re.fullmatch("[0-9a-f]{64}", digest):
         raise _fail(path, "chain_sha256", digest, "64 hexadecimal digits")
+    if "onboarding" in value:
+        _check_onboarding(path, value["onboarding"], len(axes))
     return dict(value)
+
+
+def _number(value: Any, minimum: float, none: bool = False) -> bool:
+    """A finite real number >= ``minimum`` (or None where ``none``)."""
+    if value is None:
+        return none
+    return isinstance(value, int | float) and not isinstance(value, bool) and minimum <= value < math.inf
+
+
+def _check_onboarding(path: str, value: Any, n_axes: int) -> None:
+    """Raise unless ``value`` is an :meth:`Onboarding.to_json` record of a robot with ``n_axes`` task axes."""
+    from gb_pin.robot.onboarding import CHOSEN
+
+    keys = {"chosen", "dropped", "margin", "sigma_min", "half_width", "largest_half_width", "shape", "radius"}
+    keys.add("sigma")
+    if not isinstance(value, dict) or set(value) != keys:
+        raise _fail(path, "onboarding", value, f"an object with keys {sorted(keys)}")
+    chosen, dropped, shape = value["chosen"], value["dropped"], value["shape"]
+    if not isinstance(chosen, list) or not set(chosen) <= set(CHOSEN) or len(set(chosen)) < len(chosen):
+        raise _fail(path, "onboarding.chosen", chosen, f"distinct names among {list(CHOSEN)}")
+    if (
+        not isinstance(dropped, list)
+        or len(dropped) > MAX_JOINTS
+        or not all(_printable(j, MAX_NAME) for j in dropped)
+    ):
+        raise _fail(path, "onboarding.dropped", dropped, "a list of joint names")
+    grid = "targets" in chosen
+    if (
+        not isinstance(shape, list)
+        or len(shape) != (n_axes if grid else 0)
+        or not all(isinstance(c, int) and not isinstance(c, bool) and 1 <= c <= MAX_GRID_COUNT for c in shape)
+    ):
+        raise _fail(
+            path, "onboarding.shape", shape, f"{n_axes if grid else 0} counts in [1, {MAX_GRID_COUNT}]"
+        )
+    for key, minimum, none in (
+        ("margin", 0.0, True), ("sigma_min", 0.0, True), ("half_width", 0.0, False),
+        ("largest_half_width", 0.0, False), ("radius", 1e-9, not grid),
+        ("sigma", 1e-12, True),
+    ):  # fmt: skip
+        if not _number(value[key], minimum, none):
+            raise _fail(path, f"onboarding.{key}", value[key], f"a finite number >= {minimum:g}")
+    if grid and not value["half_width"] > 0:
+        raise _fail(path, "onboarding.half_width", value["half_width"], "> 0 for a chosen goal grid")
 
 
 def explain(source: dict[str, Any]) -> str:
     """What ``source`` records, and the CLI options that pass that robot explicitly."""
+    if source["kind"] == "plant":
+        return f"the plant {source['name']!r} (a mis-calibrated body of {source['base']!r}); pass it: robot="
     if source["kind"] == "module":
         return f"the robot {source['spec']!r} (MODULE:NAME); pass it: --robot {source['spec']}"
     where = source["path"] if source["kind"] == "urdf" else f"erd:{source['robot']}"
@@ -205,6 +338,8 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
     """
     from gb_pin.robot.target import KinematicTarget
 
+    if source["kind"] == "plant":
+        return _rebuild_plant(path, source)
     hint = f"{explain(source)} (or target= in Python)"
     if source["kind"] == "module":
         raise ResultFileError(
@@ -212,7 +347,7 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
             f"word (importing a module runs it); if you trust it, {hint}"
         )
     args = (source["frame"], source["joints"])
-    options = {"home": np.asarray(source["home"], dtype=np.float64), "axes": source["axes"]}
+    options = {"home": np.asarray(source["home"], dtype=np.float64), "axes": source["axes"], "onboard": False}
     try:
         if source["kind"] == "urdf":
             target = KinematicTarget.from_urdf(source["path"], *args, **options, name=source["name"])
@@ -227,4 +362,17 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
             f"{path}: the rebuilt robot's kinematics differ from the run's (was the model edited "
             f"since?); it was {hint}"
         )
+    if "onboarding" in source:
+        restore_onboarding(target, source["onboarding"])
     return target
+
+
+def restore_onboarding(target: Any, raw: dict[str, Any]) -> None:
+    """Give a rebuilt ``target`` its onboarding record ``raw`` (checked) and goal grid, not measured again."""
+    from gb_pin.robot.grids import regular_grid
+    from gb_pin.robot.onboarding import Onboarding
+
+    record = Onboarding.from_json(raw)
+    if "targets" in record.chosen:
+        target.targets = regular_grid(target.home_position, record.half_width, record.shape)
+    target.onboarding = record

@@ -30,6 +30,7 @@ from gb_pin import _validation as check
 from gb_pin._files import check_writable, fallback_path
 from gb_pin.exceptions import GbPinWarning, InvalidArgumentError
 from gb_pin.learn.asktell import AskTell, reading
+from gb_pin.learn.feedback import FeedbackReach
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.learn.probe import EvaluationMoves
 from gb_pin.learn.state import BabbleState
@@ -228,6 +229,29 @@ class BabbleSession:
         ):
             self._checkpoint_or_fall_back()
         return finished
+
+    def reacher(self, target: ArrayLike, **options: Any) -> FeedbackReach:
+        """Feedback reaching of ``target`` (n,) [m] on the session's current model, as an ask/tell loop.
+
+        It starts where the robot is and keeps the session's joint-step limit; nothing is learnt.
+        Drive it (``while not r.done: r.tell(robot(r.ask()))``) between the session's own asks.
+
+        Args:
+            target: x* [m].
+            **options: :class:`~gb_pin.learn.feedback.FeedbackReach`'s (``observations``, ``gain``, ...).
+
+        Raises:
+            InvalidArgumentError: nothing learnt yet, or an ask of the session awaits its tell.
+        """
+        if self.state is None or self._stepper is None or self._kind is not None:
+            raise InvalidArgumentError(
+                "reach between the session's steps, after home's reading: tell() first"
+            )
+        st = self.state
+        self._stepper.sync()
+        step = None if not np.isfinite(st.max_step) else float(st.max_step)
+        options.setdefault("start", st.vectors["q_exec"].copy())
+        return FeedbackReach(st.llm, target, st.lower, st.upper, max_joint_step=step, **options)
 
     # -- files ------------------------------------------------------------------------------
     def save_checkpoint(self, path: str | os.PathLike[str] | None = None) -> str:

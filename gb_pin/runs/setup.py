@@ -44,12 +44,16 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
         InvalidArgumentError: not a robot.
     """
     if isinstance(robot, KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot):
-        return robot, None, dict(getattr(robot, "learner_defaults", None) or {})  # a plant's preset's
+        preset = getattr(robot, "preset", None)  # a plant of a preset learns with the preset's defaults
+        if isinstance(preset, str):
+            return robot, None, dict(get_preset(preset)[0].learner)
+        # An onboarded robot (or a plant of one) brings the radius and sigma it measured.
+        model = robot if isinstance(robot, KinematicTarget) else getattr(robot, "target", None)
+        return robot, None, dict(model.learner_defaults) if isinstance(model, KinematicTarget) else {}
     if is_plant_spec(robot):  # "so101@mujoco:kp=10": a simulated plant (gb_pin.sim)
         from gb_pin.sim.plant import MujocoPlant
 
-        plant = MujocoPlant.from_spec(robot)
-        return plant, None, dict(plant.learner_defaults)
+        return resolve_robot(MujocoPlant.from_spec(robot))
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):

@@ -133,6 +133,37 @@ class RunSpec:
         """The learner's hyperparameters given (None: default), by the table's names."""
         return {name: getattr(self, name) for name in NAMES}
 
+    def trial_arguments(self) -> tuple[Any, int, int, dict[str, Any]]:
+        """(robot, movements, seed, babble arguments) for trials (:func:`gb_pin.run_trials`).
+
+        Trials travel to worker processes and journals as plain values: the robot by name (or a
+        model that records how to rebuild it: :func:`gb_pin.run_trials` checks), the goal generator
+        by its name, point sets as lists.
+
+        Raises:
+            InvalidArgumentError: a field trials cannot carry (a robot object, a Generator seed,
+                a recording, body changes, ...), named.
+        """
+        plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets"}
+        others = [f.name for f in dataclasses.fields(self)
+                  if f.name not in plain and not _is_default(getattr(self, f.name), f.default)]  # fmt: skip
+        if isinstance(self.seed, np.random.Generator):
+            others.append("seed (a Generator: trial i uses seed + i)")
+        if self.goals is not None and not isinstance(self.goals, str):
+            others.append("goals (an object: trials take a generator's name)")
+        if others:
+            raise InvalidArgumentError(
+                f"trials cannot carry these fields of the RunSpec: {', '.join(others)}"
+            )
+        args: dict[str, Any] = {k: v for k, v in self.hyperparameters().items() if v is not None}
+        if self.goals is not None:
+            args["goals"] = self.goals
+        for key in ("targets", "eval_targets"):
+            value = getattr(self, key)
+            if value is not None:
+                args[key] = np.asarray(value, dtype=float).tolist()
+        return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
+
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (checked again)."""
         return dataclasses.replace(self, **changes)

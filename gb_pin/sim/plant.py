@@ -80,7 +80,8 @@ class MujocoPlant(FunctionTarget):
         gravity: whether gravity is on.
         text: the MJCF model text; ``mj_model`` and ``mj_data``: MuJoCo's model and the arm's state.
         asks, steps: asks answered and MuJoCo steps taken so far.
-        learner_defaults: the preset's learner settings (radius, ...), used by ``babble``.
+        preset: the preset's name when the robot was given by it (``babble`` then takes the preset's
+            learner settings, as for a kinematic plant).
         spec: the string that rebuilds this plant (``"so101@mujoco:kp=10,..."``), None for a
             robot given as an object.
 
@@ -111,7 +112,8 @@ class MujocoPlant(FunctionTarget):
     ) -> None:
         mujoco = require_mujoco()
         self._mj = mujoco
-        self.target, self.learner_defaults, robot_name = _kinematic_robot(robot)
+        self.target, robot_name = _kinematic_robot(robot)
+        self.preset: str | None = robot_name if robot_name is not None and ":" not in robot_name else None
         given = {
             "kp": kp, "damping": damping, "force_limit": force_limit, "armature": armature,
             "gravity": gravity, "settle": settle, "tolerance": tolerance, "period": period,
@@ -226,11 +228,6 @@ class MujocoPlant(FunctionTarget):
         return np.array(self.mj_data.qpos[self._dofs])
 
     @property
-    def model(self) -> Any:
-        """The kinematic robot (:attr:`target`), under the name a kinematic plant gives it."""
-        return self.target
-
-    @property
     def home_position(self) -> NDArray[np.float64]:
         """Where the hand rests under the home command [m] (:meth:`true_forward`; the arm is not moved)."""
         return self.true_forward(self.home)
@@ -293,23 +290,21 @@ class MujocoPlant(FunctionTarget):
         )
 
 
-def _kinematic_robot(robot: Any) -> tuple[Any, dict[str, Any], str | None]:
-    """(the KinematicTarget, the preset's learner defaults, its name as given or None) of ``robot``.
+def _kinematic_robot(robot: Any) -> tuple[Any, str | None]:
+    """(the KinematicTarget, its name as given: a preset or ``MODULE:NAME``, or None) of ``robot``.
 
     Raises:
+        UnknownRobotError: an unknown preset.
         InvalidArgumentError: a robot without a compiled chain and a Pinocchio model.
     """
-    defaults: dict[str, Any] = {}
     name = robot if isinstance(robot, str) else None
     if isinstance(robot, str) and ":" in robot:
         from gb_pin.robot.spec import load_robot_spec
 
         robot = load_robot_spec(robot)
     elif isinstance(robot, str):
-        from gb_pin.robot.presets import get_preset, load_robot
+        from gb_pin.robot.presets import load_robot
 
-        preset, _ = get_preset(robot)
-        defaults = dict(preset.learner)
         robot = load_robot(robot)
     from gb_pin.robot.target import KinematicTarget
 
@@ -318,7 +313,7 @@ def _kinematic_robot(robot: Any) -> tuple[Any, dict[str, Any], str | None]:
             "a MuJoCo plant is built from a robot with a Pinocchio model (a preset name, or a "
             f"KinematicTarget from a URDF or example-robot-data), got {robot!r:.120}"
         )
-    return robot, defaults, name
+    return robot, name
 
 
 def _spec(robot: str | None, given: dict[str, Any]) -> str | None:

@@ -32,13 +32,29 @@ def _track(name: str, kind: str, times: umsgpack.Ext, values: Any) -> dict[str, 
     return {"name": name, "type": kind, "times": times, "values": values}
 
 
+def rotation_and_scale(M: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(R, s): rotations (..., 3, 3) and per-axis scales (..., 3) with ``M[..., :3, :3] = R @ diag(s)``.
+
+    A mesh's scale multiplies the columns of its placement's rotation (``MeshFigure``); a mirrored
+    mesh (a negative scale, e.g. TALOS's right arm and leg, its left ones mirrored) makes the matrix a
+    reflection, which no quaternion describes: its y scale is then negative and R a rotation again.
+    """
+    A = np.asarray(M, dtype=float)[..., :3, :3]
+    s = np.linalg.norm(A, axis=-2)
+    R = A / np.where(s > 0, s, 1.0)[..., None, :]
+    mirrored = np.linalg.det(R) < 0
+    s[mirrored, 1] *= -1.0
+    R[mirrored, :, 1] *= -1.0
+    return R, s
+
+
 def _pose_tracks(M: NDArray[np.float64], times: umsgpack.Ext) -> list[dict[str, Any]]:
     """Position, quaternion (and scale, if not 1) tracks of (R, 4, 4) transforms."""
+    R, scale = rotation_and_scale(M)
     tracks = [
         _track(".position", "vector3", times, _f32(M[:, :3, 3])),
-        _track(".quaternion", "quaternion", times, _f32(quaternions(M[:, :3, :3]))),
+        _track(".quaternion", "quaternion", times, _f32(quaternions(R))),
     ]
-    scale = np.linalg.norm(M[:, :3, :3], axis=1)
     if not np.allclose(scale, 1.0):
         tracks.append(_track(".scale", "vector3", times, _f32(scale)))
     return tracks

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 from gb_pin._files import write_text
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.viewer.dependencies import require_meshcat
-from gb_pin.viewer.legend import result_status
+from gb_pin.viewer.legend import model_note, result_status
 from gb_pin.viewer.replay import replay_window
 
 if TYPE_CHECKING:
@@ -88,7 +88,5 @@ def export_model(
     )
     scene.draw_static()
     scene.show_model(result.model.predict(scene.targets, warn=False), few=few)
-    scene.label(
-        result_status(result), f"blue and dark lines: the model learned in {result.movements} movements"
-    )
+    scene.label(result_status(result), model_note(result))
     write_html(path, window.scene.html(title=f"gb_pin model: {result.target.name}"))

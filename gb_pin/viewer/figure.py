@@ -18,6 +18,9 @@ if TYPE_CHECKING:
 def make_figure(target: KinematicTarget, visual_model: Any | None = None) -> StickFigure:
     """How to draw ``target``: its meshes where there are some, else a stick figure.
 
+    A robot without a kinematic chain (a forward function) is drawn as its effector only
+    (:class:`~gb_pin.viewer.point.PointFigure`).
+
     Args:
         target: the robot.
         visual_model: a ``pin.GeometryModel``; None: the target's own meshes
@@ -26,6 +29,10 @@ def make_figure(target: KinematicTarget, visual_model: Any | None = None) -> Sti
     Warns:
         ViewerWarning: the target's meshes cannot be loaded (it is drawn as a stick figure).
     """
+    if getattr(target, "chain", None) is None:
+        from gb_pin.viewer.point import PointFigure
+
+        return PointFigure(target)  # type: ignore[return-value]  # the same interface, duck-typed
     if visual_model is False:
         return StickFigure(target)
     if visual_model is None:

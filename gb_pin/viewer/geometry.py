@@ -110,6 +110,16 @@ def grid_shape(X: NDArray[np.float64]) -> tuple[int, ...] | None:
     return shape if np.allclose(grid, X, atol=1e-8) else None
 
 
+def grid_step(X: NDArray[np.float64]) -> float:
+    """The smallest step of ``X`` (N, d) along an axis if it is a regular grid [m]; inf otherwise."""
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    shape = grid_shape(X)
+    if shape is None:
+        return math.inf
+    steps = [np.ptp(X[:, a]) / (k - 1) for a, k in enumerate(shape) if k > 1 and np.ptp(X[:, a]) > 0]
+    return float(min(steps)) if steps else math.inf
+
+
 def grid_edges(shape: tuple[int, ...]) -> NDArray[np.int64]:
     """(E, 2) index pairs of neighbouring grid points."""
     idx = np.arange(math.prod(shape)).reshape(shape)

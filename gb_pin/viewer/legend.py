@@ -49,6 +49,8 @@ class Legend:
         overlay_note: why the learned model's overlay is shown or hidden (e.g. in a replay).
         meshes: the robot is drawn by its meshes (else a stick figure).
         goal_set: a goal set other than the test set is drawn too.
+        moving: a run (live or replayed: a current goal and a trail); False for a learned model shown.
+        effector_only: the robot is drawn as its effector only (a robot given as a function).
     """
 
     robot: str
@@ -57,6 +59,8 @@ class Legend:
     overlay_note: str = ""
     meshes: bool = False
     goal_set: bool = False
+    moving: bool = True
+    effector_only: bool = False
 
 
 def status_line(
@@ -85,6 +89,11 @@ def result_status(result: Any) -> str:
     return status_line(result.movements, result.error, result.home_distance)
 
 
+def model_note(result: Any) -> str:
+    """The legend's note under a learned model's overlay (``show``)."""
+    return f"blue and dark lines: the model learned in {result.movements} movements"
+
+
 def _swatch(color: int, shape: str) -> str:
     radius = "50%" if shape == "dot" else "1px"
     height = "3px" if shape == "line" else "9px"
@@ -94,13 +103,25 @@ def _swatch(color: int, shape: str) -> str:
     )
 
 
-def legend_items(meshes: bool, goal_set: bool = False) -> list[tuple[int, str, str]]:
-    """(colour, swatch shape, meaning) of every part drawn (:mod:`~gb_pin.viewer.style`)."""
+def legend_items(
+    meshes: bool, goal_set: bool = False, moving: bool = True, effector_only: bool = False
+) -> list[tuple[int, str, str]]:
+    """(colour, swatch shape, meaning) of every part drawn (:mod:`~gb_pin.viewer.style`).
+
+    ``moving``: a run, with a current goal and a trail (a learned model shown has neither);
+    ``effector_only``: a robot given as a function, drawn as its effector.
+    """
+    run: list[tuple[int, str, str]] = [
+        (TARGET_COLOR, "dot", "current goal x<sup>*</sup><sub>t</sub>"),
+        (EFFECTOR_COLOR, "dot", "reached positions, fading (the trail)"),
+    ]
     robot: list[tuple[int, str, str]] = [
         (LINK_COLOR, "box", "the robot's links (joints dark, effector red)"),
     ]
     if meshes:
         robot = [(0xBBBBBB, "box", "the robot's meshes, in their own colours")]
+    if effector_only:
+        robot = [(EFFECTOR_COLOR, "dot", "the effector f(q) (a robot given as a function: no links to draw)")]
     return [
         *robot,
         (
@@ -111,8 +132,7 @@ def legend_items(meshes: bool, goal_set: bool = False) -> list[tuple[int, str, s
             else "test set: E<sup>X</sup> is measured here (grey points and grid)",
         ),
         *([(GOAL_SET_COLOR, "dot", "goal set: the goals come from here (pink points)")] if goal_set else []),
-        (TARGET_COLOR, "dot", "current goal x<sup>*</sup><sub>t</sub>"),
-        (EFFECTOR_COLOR, "dot", "reached positions, fading (the trail)"),
+        *(run if moving else []),
         (REACHED_COLOR, "line", "learned model: where g(x<sup>*</sup>) reaches, f(g(x<sup>*</sup>))"),
         (POSTURE_COLOR, "line", "learned postures g(x<sup>*</sup>) of a few targets"),
         (0xE74C3C, "line", "world axes x, y, z (red, green, blue; meshcat's)"),
@@ -122,7 +142,8 @@ def legend_items(meshes: bool, goal_set: bool = False) -> list[tuple[int, str, s
 def legend_html(legend: Legend) -> str:
     """The box as one HTML element (text escaped; the status line is gb_pin's own markup)."""
     rows = "".join(
-        f"<div>{_swatch(c, s)}{text}</div>" for c, s, text in legend_items(legend.meshes, legend.goal_set)
+        f"<div>{_swatch(c, s)}{text}</div>"
+        for c, s, text in legend_items(legend.meshes, legend.goal_set, legend.moving, legend.effector_only)
     )
     parts = [f'<div style="font-weight:bold;font-size:13px">{html.escape(legend.robot)}</div>']
     if legend.details:

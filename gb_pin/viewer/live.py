@@ -165,6 +165,9 @@ class Viewer:
             self.start(result.target, result.targets)
         scene = self._scene()
         scene.show_model(result.model.predict(scene.targets, warn=False), few=few)
+        from gb_pin.viewer.legend import model_note, result_status
+
+        scene.label(result_status(result), model_note(result))
 
     def play(
         self,

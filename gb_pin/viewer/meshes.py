@@ -8,6 +8,7 @@ pinocchio places them. Loaded only when a robot with meshes is drawn
 
 from __future__ import annotations
 
+import itertools
 import warnings
 from typing import TYPE_CHECKING, Any
 
@@ -27,6 +28,17 @@ with warnings.catch_warnings():
 if TYPE_CHECKING:
     from gb_pin.robot.target import KinematicTarget
     from gb_pin.viewer.commands import Window
+
+
+def _local_box(geometry: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """(min, max) corners of a geometry's bounding box in its own frame [m], or None if it has none."""
+    try:
+        geometry.computeLocalAABB()
+        box = geometry.aabb_local
+        lo, hi = np.asarray(box.min_, dtype=float), np.asarray(box.max_, dtype=float)
+    except (AttributeError, RuntimeError, TypeError):
+        return None
+    return (lo, hi) if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi >= lo) else None
 
 
 class MeshFigure(StickFigure):
@@ -61,6 +73,23 @@ class MeshFigure(StickFigure):
         viz.initViewer(viewer=meshcat.Visualizer(window=window))
         viz.loadViewerModel(rootNodeName=self.root.removeprefix("/meshcat/"))
         window.send(self.effector_marker())
+
+    def outline(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(P, 3) points the camera frames: the links' endpoints and every mesh's bounding-box corners.
+
+        The learner's chain holds the moved joints only (a humanoid's arm); the meshes hang on the
+        full model, head and feet included, which the camera must show whole.
+        """
+        points = [self.skeleton(q)]
+        unit = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
+        for (_, T), obj in zip(self.transforms(q), self.visual_model.geometryObjects, strict=False):
+            box = _local_box(obj.geometry)
+            if box is None:  # a geometry without a bounding box: its origin
+                points.append(T[None, :3, 3])
+                continue
+            corners = box[0] + unit * (box[1] - box[0])
+            points.append(corners @ T[:3, :3].T + T[:3, 3])
+        return np.vstack(points)
 
     def transforms(self, q: NDArray[np.float64]) -> Transforms:
         """(path, world transform) of each visual mesh and of the frame marker at ``q``."""

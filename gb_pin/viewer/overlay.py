@@ -29,6 +29,7 @@ def draw_overlay(
     *,
     few: int = 5,
     offset: NDArray[np.float64] | None = None,
+    size: float | None = None,
 ) -> dict[str, NDArray[np.float64]]:
     """Draw the reached grid f(g(x*)) and the postures g(x*) for ``few`` targets spread over X*.
 
@@ -40,6 +41,7 @@ def draw_overlay(
         postures: (N, m) estimates g(x*) for the target set.
         few: number of postures drawn.
         offset: (3,) shift of everything drawn (e.g. away from the camera) [m].
+        size: the length the points' size is a fraction of [m]; default the robot's size.
 
     Returns:
         The drawn arrays (``reached`` (N, 3), ``skeletons`` (few, 2S, 3)), without the offset.
@@ -48,7 +50,9 @@ def draw_overlay(
     postures = np.atleast_2d(postures)
     reached = np.array([figure.effector(q) for q in postures])
     window.send(
-        shapes.points(f"{OVERLAY}/reached_points", reached + below, REACHED_COLOR, 0.014 * figure.size)
+        shapes.points(
+            f"{OVERLAY}/reached_points", reached + below, REACHED_COLOR, 0.014 * (size or figure.size)
+        )
     )
     shape = grid_shape(targets)
     if shape is not None:

@@ -20,7 +20,7 @@ from gb_pin.viewer import shapes
 from gb_pin.viewer.animation import animation_command
 from gb_pin.viewer.commands import encode, property_message, transform_message
 from gb_pin.viewer.figure import make_figure
-from gb_pin.viewer.geometry import Transforms, spread_indices, translation
+from gb_pin.viewer.geometry import Transforms, grid_step, spread_indices, translation
 from gb_pin.viewer.legend import Legend, legend_command, remove_control
 from gb_pin.viewer.markers import Markers, draw_target_set
 from gb_pin.viewer.overlay import draw_overlay
@@ -30,6 +30,12 @@ from gb_pin.viewer.task_markers import TaskLayout, draw_task
 if TYPE_CHECKING:
     from gb_pin.robot.target import KinematicTarget
     from gb_pin.viewer.commands import Window
+
+
+MARK_SPACINGS = 8.0
+"""Points and spheres are sized as for a robot at most this many target-grid steps long."""
+LEGEND_SHIFT = 0.4
+"""How far a 3-D scene sits right of the view's centre, a fraction of its extent (the legend is top left)."""
 
 
 class Scene:
@@ -68,7 +74,13 @@ class Scene:
         self.layout = TaskLayout.of(target)
         self.task_axes = self.layout.position_axes
         self.home3 = self.figure.effector(target.home)
+        # Points and spheres are a fraction of the robot's size, but never so big that they hide a
+        # grid small for the robot (e.g. 1 cm across a 1 m arm): at most MARK_SPACINGS steps of it.
+        step = grid_step(self.embed(self.targets))
+        self.mark_size = float(min(self.figure.size, MARK_SPACINGS * step))
+        self.figure.effector_radius = min(self.figure.effector_radius, 0.02 * self.mark_size)
         self.marker_radius = self.figure.effector_radius
+        self.static = False  # a learned model shown (no current goal, no trail), not a run
         self.markers = Markers(window, self.marker_radius, trail)
         self.center, self.extent = self._bounds()
 
@@ -92,7 +104,7 @@ class Scene:
         goals = [] if self.goal_targets is None else [self.embed(self.goal_targets)]
         pts = np.vstack(
             [
-                self.figure.skeleton(self.target.home),
+                self.figure.outline(self.target.home),
                 self.embed(self.targets),
                 *others,
                 *goals,
@@ -123,8 +135,9 @@ class Scene:
         w.send(shapes.delete(ROOT))  # a viewer reused for another run starts from a clean scene
         w.send_encoded(*property_message("/Background", "top_color", BACKGROUND_TOP))
         w.send_encoded(*property_message("/Background", "bottom_color", BACKGROUND_BOTTOM))
-        # Everything is shifted so that the workspace centre sits at the camera's orbit centre (the origin).
-        shift = translation(-self.center)
+        # Everything is shifted so that the workspace centre sits at the camera's orbit centre (the
+        # origin), in 3-D a little to the right of it: the legend box covers the view's top left.
+        shift = translation(-self.center + self._beside_legend())
         for p in (ROOT, "/Grid", "/Axes"):
             w.send_encoded(*transform_message(p, shift))
         self._camera()
@@ -135,7 +148,7 @@ class Scene:
         self.figure.load(w)
         self.markers.load()
         draw_target_set(
-            w, self.embed_rows(self.targets), self.embed(self.targets) + self._below(), self.figure.size
+            w, self.embed_rows(self.targets), self.embed(self.targets) + self._below(), self.mark_size
         )
         if self.layout.stacked:
             draw_task(w, self.layout, self.targets, self.figure.size, reached=False, offset=self._below())
@@ -148,9 +161,7 @@ class Scene:
         """Draw the goal set (pink points) beside the test set ``targets`` (grey)."""
         self.goal_targets = np.atleast_2d(np.asarray(goal_targets, dtype=float))
         points = self.embed(self.goal_targets) + self._below()
-        self.window.send(
-            shapes.points(f"{GOAL_SET}/points", points, GOAL_SET_COLOR, 0.012 * self.figure.size)
-        )
+        self.window.send(shapes.points(f"{GOAL_SET}/points", points, GOAL_SET_COLOR, 0.012 * self.mark_size))
 
     def label(self, status: str = "", overlay_note: str = "") -> None:
         """Draw the legend box over the view: robot, ``status`` (movement, E^X, D^home), colours.
@@ -164,19 +175,22 @@ class Scene:
         if self.layout.stacked:
             details = f"{self.target.n_joints} joints, task: {'; '.join(self.target.component_labels)}"
             details += self.layout.note
-        meshes = type(self.figure).__name__ == "MeshFigure"
+        kind = type(self.figure).__name__
         legend = Legend(
-            self.target.name, details, status, overlay_note, meshes, self.goal_targets is not None
+            self.target.name,
+            details,
+            status,
+            overlay_note,
+            kind == "MeshFigure",
+            self.goal_targets is not None,
+            moving=not self.static,
+            effector_only=kind == "PointFigure",
         )
         self.window.send(legend_command(legend))
         self.window.send(remove_control())
 
-    def _camera(self) -> None:
-        """Place meshcat's default camera (properties set directly: pinocchio's helpers raise on 0.3.2)."""
-        # The arm explores beyond the targets and its home posture: leave a margin around them.
-        half = self.extent * 1.5
-        # Distance at which the vertical field of view spans the workspace (4:3 window or wider).
-        dist = half / math.tan(math.radians(CAMERA_FOV / 2.0))
+    def _view_direction(self) -> NDArray[np.float64]:
+        """Unit vector from the orbit centre to the camera."""
         normal = self.planar_normal
         if normal is None:
             view = np.array([1.0, -1.2, 0.9])
@@ -185,7 +199,23 @@ class Scene:
             view[normal] = 1.0
             # A hair off-axis: OrbitControls cannot look exactly along its up vector.
             view[1 if normal == 2 else 2] = -1e-3
-        offset = view / np.linalg.norm(view) * dist
+        return view / np.linalg.norm(view)
+
+    def _beside_legend(self) -> NDArray[np.float64]:
+        """The 3-D scene's offset to the screen's right (world z up): :data:`LEGEND_SHIFT` of its extent."""
+        if self.planar_normal is not None:
+            return np.zeros(3)
+        right = np.cross(-self._view_direction(), [0.0, 0.0, 1.0])
+        return LEGEND_SHIFT * self.extent * right / np.linalg.norm(right)
+
+    def _camera(self) -> None:
+        """Place meshcat's default camera (properties set directly: pinocchio's helpers raise on 0.3.2)."""
+        # The arm explores beyond the targets and its home posture: leave a margin around them (and
+        # room for the shift beside the legend).
+        half = self.extent * (1.5 + LEGEND_SHIFT / 2)
+        # Distance at which the vertical field of view spans the workspace (4:3 window or wider).
+        dist = half / math.tan(math.radians(CAMERA_FOV / 2.0))
+        offset = self._view_direction() * dist
         # meshcat's camera sits in a frame rotated +90 deg about x (three.js is y-up):
         # world (a, b, c) is (a, c, -b) there.
         rotated = [float(offset[0]), float(offset[2]), float(-offset[1])]
@@ -243,6 +273,7 @@ class Scene:
             postures,
             few=few,
             offset=self._below(),
+            size=self.mark_size,
         )
         if self.layout.stacked:  # the reached orientations, directions and other frames' positions
             X = np.array([self.target.chain.forward(q) for q in self.target.clip(np.atleast_2d(postures))])
@@ -253,10 +284,14 @@ class Scene:
         return drawn
 
     def show_model(self, postures: NDArray[np.float64], few: int = 5) -> None:
-        """Draw a learned model: its Fig. 3 overlay, and the robot at g of the target nearest the centre."""
+        """Draw a learned model: its Fig. 3 overlay, and the robot at g of the target nearest the centre.
+
+        A model is no run: no current goal, no trail (the legend then lists neither).
+        """
+        self.static = True
         self.overlay(postures, few=few)
         centre = spread_indices(self.embed_rows(self.targets), 1)[0]
-        self.pose(postures[centre], self.targets[centre], None)
+        self.pose(postures[centre], None, None)
 
     # -- replay animation ----------------------------------------------------------------------------
     def animation(

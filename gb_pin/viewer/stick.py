@@ -143,6 +143,10 @@ class StickFigure:
             pts.append(R @ b + p)
         return np.array(pts)
 
+    def outline(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(P, 3) points the camera frames at posture ``q`` [m]: the links' endpoints."""
+        return self.skeleton(q)
+
     def effector(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """3-D position of the operational frame at ``q`` [m]."""
         self._forward(q)

@@ -58,6 +58,9 @@ class TaskLayout:
     def of(cls, target: KinematicTarget) -> TaskLayout:
         """The layout of ``target``'s task (a plain position task: all rows, no extras)."""
         chain = target.chain
+        if chain is None:  # a robot given as a function: its task coordinates are x, y, z in order
+            n = int(target.n_task)
+            return cls(np.arange(n), np.arange(n, dtype=np.int64), (), ())
         comps = chain.components
         if comps is None:
             rows = np.arange(chain.n_task)

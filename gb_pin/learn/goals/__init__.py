@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import inspect
 from typing import Any
 
-from gb_pin._names import suggest
+from gb_pin._names import closest, suggest
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.goals.base import GoalArrays, GoalGenerator, PythonGoals
 from gb_pin.learn.goals.cyclic import CyclicGoals
@@ -43,6 +44,15 @@ def make_goals(goals: str | GoalGenerator | None, params: dict[str, Any] | None 
             raise InvalidArgumentError(
                 f"goals={goals!r} is not a goal generator; {suggest(goals, GOAL_GENERATORS)}"
             )
+        accepted = [p for p in inspect.signature(cls.__init__).parameters if p != "self"]
+        for key in params or {}:
+            if key not in accepted:
+                close = closest(key, accepted)
+                hint = f"did you mean {close[0]!r}? " if close else ""
+                raise InvalidArgumentError(
+                    f"goals={goals!r}: unknown parameter {key!r}; {hint}{goals} takes "
+                    f"{', '.join(accepted) or 'no parameters'}"
+                )
         try:
             return cls(**(params or {}))
         except TypeError as exc:

@@ -1,0 +1,130 @@
+"""The options of a robot that is not its model: ``--plant``, ``--sensor``, ``--max-joint-step``.
+
+``--plant KIND[:key=value,...]`` wraps the robot in a plant (:data:`PLANTS`): ``miscalibrated``
+(joint zero offsets and link lengths off, :class:`~gb_pin.robot.plant.Plant`), and others that
+register themselves here (a physics simulator). ``--sensor noise=M,loss=P,seed=S`` observes the
+hand through a :class:`~gb_pin.learn.sensor.Sensor`. Every key is checked, with the valid ones named.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from typing import Any
+
+from gb_pin._names import suggest
+from gb_pin.exceptions import InvalidArgumentError
+
+PlantBuilder = Callable[[Any, dict[str, Any]], Any]
+PLANTS: dict[str, tuple[dict[str, float | None], PlantBuilder, str]] = {}
+"""Plant kinds: name -> (keys with their defaults (None: "auto"), builder(robot, values), help)."""
+
+
+def register_plant(name: str, defaults: dict[str, float | None], build: PlantBuilder, text: str) -> None:
+    """Make ``--plant NAME[:key=value,...]`` build ``build(robot, values)``."""
+    PLANTS[name] = (defaults, build, text)
+
+
+def _miscalibrated(robot: Any, values: dict[str, float]) -> Any:
+    from gb_pin.robot.plant import Plant
+
+    seed = values["seed"]
+    if seed != int(seed) or seed < 0:
+        raise InvalidArgumentError(f"--plant miscalibrated: seed must be an integer >= 0, got {seed:g}")
+    return Plant(
+        robot, offset_std=math.radians(values["offsets"]), length_std=values["lengths"] / 100.0,
+        noise=values["noise"], loss=values["loss"], seed=int(seed),
+    )  # fmt: skip
+
+
+register_plant(
+    "miscalibrated",
+    {"offsets": 3.0, "lengths": 3.0, "noise": 0.0, "loss": 0.0, "seed": 0},
+    _miscalibrated,
+    "joint zero offsets ~ N(0, offsets^2) [deg] and link lengths x (1 + N(0, (lengths/100)^2)); "
+    "noise [m] and loss of the readings; seed draws the body and the sensor",
+)
+
+
+def add_body_options(b: argparse.ArgumentParser) -> None:
+    """``--plant``, ``--sensor`` and ``--max-joint-step``."""
+    kinds = "; ".join(
+        f"{name}:{','.join(f'{k}={_default(v)}' for k, v in d.items())} ({text})"
+        for name, (d, _, text) in PLANTS.items()
+    )
+    b.add_argument(
+        "--plant",
+        default=None,
+        help=f"learn a robot that is not its model: {kinds}".replace("%", "%%"),
+    )
+    b.add_argument(
+        "--sensor",
+        default=None,
+        help="observe the hand through a sensor: noise=M (std per axis [m]),loss=P (missing readings),"
+        "seed=S, e.g. noise=0.0015,loss=0.1",
+    )
+    b.add_argument(
+        "--max-joint-step",
+        type=float,
+        default=None,
+        help="no step moves a joint farther than this from the last ([rad] or [m]; default no limit)",
+    )
+
+
+def _default(value: float | None) -> str:
+    return "auto" if value is None else f"{value:g}"
+
+
+def parse_spec(option: str, text: str, defaults: dict[str, float | None]) -> dict[str, Any]:
+    """``key=value,...`` over ``defaults``' keys, numbers only.
+
+    Raises:
+        InvalidArgumentError: an unknown key (the closest named), a value that is not a finite number.
+    """
+    values = dict(defaults)
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        key, sep, raw = item.partition("=")
+        key = key.strip()
+        if not sep or key not in defaults:
+            raise InvalidArgumentError(f"{option}: unknown key {key!r}; {suggest(key, list(defaults))}")
+        try:
+            value = float(raw)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise InvalidArgumentError(f"{option}: {key} must be a finite number, got {raw.strip()!r}")
+        values[key] = value
+    return values
+
+
+def plant(args: argparse.Namespace, robot: Any) -> Any:
+    """The robot wrapped in ``--plant``'s plant, or the robot itself.
+
+    Raises:
+        InvalidArgumentError: an unknown kind or key, a bad value.
+    """
+    if getattr(args, "plant", None) is None:
+        return robot
+    kind, _, rest = args.plant.partition(":")
+    if kind not in PLANTS:
+        raise InvalidArgumentError(f"--plant: unknown kind {kind!r}; {suggest(kind, list(PLANTS))}")
+    defaults, build, _ = PLANTS[kind]
+    return build(robot, parse_spec(f"--plant {kind}", rest, defaults))
+
+
+def sensor(args: argparse.Namespace) -> Any:
+    """``--sensor``'s :class:`~gb_pin.learn.sensor.Sensor`, or None.
+
+    Raises:
+        InvalidArgumentError: an unknown key or a bad value.
+    """
+    if getattr(args, "sensor", None) is None:
+        return None
+    from gb_pin.learn.sensor import Sensor
+
+    values = parse_spec("--sensor", args.sensor, {"noise": 0.0, "loss": 0.0, "seed": 0})
+    seed = values["seed"]
+    if seed != int(seed) or seed < 0:
+        raise InvalidArgumentError(f"--sensor: seed must be an integer >= 0, got {seed:g}")
+    return Sensor(values["noise"], values["loss"], int(seed))

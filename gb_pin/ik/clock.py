@@ -1,0 +1,77 @@
+"""A monotonic clock and a counter-based random stream for compiled code (the solver's budget and restarts).
+
+numba has no clock in nopython mode; :func:`now` calls the C library's ``clock_gettime`` (declared by
+name, so that the compiled code stays cacheable: the symbol is resolved when the cache is loaded).
+:data:`CLOCKS`: ``"wall"`` is ``time.CLOCK_MONOTONIC`` (about 40 ns a call here), the budget of the
+field's protocol; ``"cpu"`` is ``time.CLOCK_THREAD_CPUTIME_ID``, the time the query itself ran on
+its core (about 0.7 us a call: a system call), which a busy machine's preemptions do not eat into
+(-1 where the platform has no such clock: no time limit can be kept, and the API says so).
+
+Restarts draw their postures from a splitmix64 stream of their own per target (seeded by the
+run's seed and the target's index), so a target's answer does not depend on the other targets
+in the batch nor on how many draws they used.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from llvmlite import ir  # type: ignore[import-untyped]
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+from gb_pin._jit import njit
+from gb_pin.ik.compiled import NO_REFCOUNT
+
+__all__ = ["CLOCKS", "now", "stream_seed", "uniform"]
+
+CLOCKS: dict[str, int] = {
+    "wall": int(getattr(time, "CLOCK_MONOTONIC", -1)),
+    "cpu": int(getattr(time, "CLOCK_THREAD_CPUTIME_ID", -1)),
+}
+"""The clocks :func:`now` reads, by name (-1: not on this platform)."""
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+
+
+@intrinsic
+def _clock_gettime(typingctx, clock, address):  # type: ignore[no-untyped-def]
+    sig = types.int32(types.int32, types.intp)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        pointer = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.IntType(32), [ir.IntType(32), pointer])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "clock_gettime")
+        return builder.call(fn, [args[0], builder.inttoptr(args[1], pointer)])
+
+    return sig, codegen
+
+
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
+def now(clock, buf):  # type: ignore[no-untyped-def]
+    """Seconds on the monotonic clock ``clock`` (``buf``: int64 (2,) scratch for the timespec); 0 if none."""
+    if clock < 0:
+        return 0.0
+    _clock_gettime(np.int32(clock), buf.ctypes.data)
+    return float(buf[0]) + 1e-9 * float(buf[1])
+
+
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
+def stream_seed(base, index, state):  # type: ignore[no-untyped-def]
+    """Start the stream of target ``index`` in ``state`` (uint64 (1,)) from the run's ``base`` (uint64)."""
+    state[0] = base ^ (np.uint64(index) * _GOLDEN)
+
+
+@njit(cache=True, nogil=True, **NO_REFCOUNT)
+def uniform(state):  # type: ignore[no-untyped-def]
+    """A float uniform in [0, 1) from the splitmix64 stream in ``state`` (uint64 (1,)), advanced."""
+    state[0] += _GOLDEN
+    z = state[0]
+    z = (z ^ (z >> np.uint64(30))) * _MIX1
+    z = (z ^ (z >> np.uint64(27))) * _MIX2
+    z = z ^ (z >> np.uint64(31))
+    return float(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
