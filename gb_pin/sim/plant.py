@@ -44,9 +44,9 @@ from gb_pin.sim import snapshot
 from gb_pin.sim.dependency import require_mujoco
 from gb_pin.sim.equilibrium import static_posture
 from gb_pin.sim.mjcf import mjcf
-from gb_pin.sim.servos import Servos
+from gb_pin.sim.servos import Servos, short
 from gb_pin.sim.settling import Settling
-from gb_pin.sim.spec import plant_spec, split_spec
+from gb_pin.sim.spec import spec_of, split_spec
 
 
 class MujocoPlant(FunctionTarget):
@@ -145,13 +145,13 @@ class MujocoPlant(FunctionTarget):
         self._x = np.empty(self.target.n_task)
         self._state_kind = mujoco.mjtState.mjSTATE_INTEGRATION
         self._settings = snapshot.digest(self.text, repr(self.settling), repr(self.tracker))
-        label = name or f"{self.target.name} in MuJoCo (kp {_short(self.servos.kp)})"
+        label = name or f"{self.target.name} in MuJoCo (kp {short(self.servos.kp)})"
         super().__init__(
             self.true_forward, self.target.home, lower=self.target.lower, upper=self.target.upper,
             targets=self.target.targets if targets is None else targets, name=label,
         )  # fmt: skip
         self.axes = getattr(self.target, "axes", None)
-        self.spec = _spec(robot_name, given)  # (after every check: the values are valid)
+        self.spec = spec_of(robot_name, given)  # (after every check: the values are valid)
         self.reset()
 
     @classmethod
@@ -314,18 +314,3 @@ def _kinematic_robot(robot: Any) -> tuple[Any, str | None]:
             f"KinematicTarget from a URDF or example-robot-data), got {robot!r:.120}"
         )
     return robot, name
-
-
-def _spec(robot: str | None, given: dict[str, Any]) -> str | None:
-    """The plant string of a robot named ``robot`` with the options ``given`` (None: not expressible)."""
-    defaults = {"kp": 10.0, "armature": 0.01, "gravity": True, "timestep": 0.002, "noise": 0.0, "loss": 0.0,
-                "seed": 0}  # fmt: skip
-    options = {k: v for k, v in given.items() if v is not None and not (k in defaults and v == defaults[k])}
-    if robot is None or any(np.ndim(v) for v in options.values()):
-        return None
-    return plant_spec(robot, {k: v if isinstance(v, bool) else float(v) if k != "seed" else int(v)
-                              for k, v in options.items()})  # fmt: skip
-
-
-def _short(values: NDArray[np.float64]) -> str:
-    return f"{values[0]:g}" if np.all(values == values[0]) else "per joint"

@@ -77,9 +77,9 @@ class Servos:
 
     def describe(self) -> str:
         """``kp 10, kv 0.5, armature 0.01`` (one number where all joints agree)."""
-        parts = [f"kp {_short(self.kp)}", f"kv {_short(self.kv)}", f"armature {_short(self.armature)}"]
+        parts = [f"kp {short(self.kp)}", f"kv {short(self.kv)}", f"armature {short(self.armature)}"]
         if self.limited:
-            parts.append(f"force limit {_short(self.force_limit)}")
+            parts.append(f"force limit {short(self.force_limit)}")
         return ", ".join(parts)
 
 
@@ -96,7 +96,8 @@ def _per_joint(name: str, value: Any, m: int, positive: bool = False) -> NDArray
     return arr
 
 
-def _short(values: NDArray[np.float64]) -> str:
+def short(values: NDArray[np.float64]) -> str:
+    """``10`` where every joint has the value, else ``[10, 10, 5, 5]``."""
     if np.all(values == values[0]):
         return f"{values[0]:g}"
     return "[" + ", ".join(f"{v:g}" for v in values) + "]"

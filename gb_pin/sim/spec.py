@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from gb_pin._names import suggest
 from gb_pin.exceptions import InvalidArgumentError
 
@@ -89,6 +91,19 @@ def plant_spec(robot: str, options: dict[str, Any]) -> str:
     """The string of a plant on ``robot`` with ``options`` (the inverse of :func:`split_spec`)."""
     items = [f"{k}={_text(v)}" for k, v in options.items()]
     return f"{robot}@mujoco" + (":" + ",".join(items) if items else "")
+
+
+def spec_of(robot: str | None, given: dict[str, Any]) -> str | None:
+    """The string of a plant on the robot named ``robot`` with the (checked) arguments ``given``.
+
+    Arguments at their defaults are left out. None: a robot given as an object, or per-joint values.
+    """
+    defaults = {"kp": 10.0, "armature": 0.01, "gravity": True, "timestep": 0.002, "noise": 0.0, "loss": 0.0,
+                "seed": 0}  # fmt: skip
+    options = {k: v for k, v in given.items() if v is not None and not (k in defaults and v == defaults[k])}
+    if robot is None or any(np.ndim(v) for v in options.values()):
+        return None
+    return plant_spec(robot, {k: v if OPTIONS[k] is bool else OPTIONS[k](v) for k, v in options.items()})
 
 
 def _value(key: str, text: str) -> Any:
