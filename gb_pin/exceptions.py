@@ -42,6 +42,10 @@ class ViewerError(GbPinError):
     """The viewer cannot start (meshcat missing, port taken, ...) or was asked for something impossible."""
 
 
+class SimulationError(GbPinError):
+    """The physics simulator cannot start (MuJoCo missing) or cannot simulate what was asked."""
+
+
 class GbPinWarning(UserWarning):
     """Base class of the warnings gb_pin emits."""
 

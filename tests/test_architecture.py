@@ -192,7 +192,7 @@ def test_no_import_cycles_even_through_imports_inside_functions() -> None:
 def test_layers_import_only_downwards() -> None:
     """learn imports no other layer; robot no runs/experiments/viewer/cli/reproduce; ik only learn; no cli.
 
-    (ik may import the robot layer's presets, to resolve a preset name.)
+    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only robot and learn.
     """
     mods = _modules()
     graph = {m: _imports(p, m, set(mods)) for m, p in mods.items()}
@@ -202,6 +202,7 @@ def test_layers_import_only_downwards() -> None:
         # ik resolves a preset name through the robot layer's presets (gb_pin.ik.robot.resolve, inside the
         # function): nothing else of the robot layer, and no pinocchio for a chain given as arrays
         "gb_pin.ik": ("gb_pin.ik", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions", "gb_pin.robot.presets"),
+        "gb_pin.sim": ("gb_pin.sim", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
     }
     for m, deps in graph.items():
         for layer, ok in allowed_below.items():
@@ -210,6 +211,35 @@ def test_layers_import_only_downwards() -> None:
                 assert bad == [], f"{m} imports {bad}"
         if not m.startswith("gb_pin.cli") and m != "gb_pin.__main__":  # `python -m gb_pin` runs the CLI
             assert not [d for d in deps if d.startswith("gb_pin.cli")], m
+
+
+def _third_party_imports(path: Path) -> set[str]:
+    """Top-level names of the modules a file imports anywhere (functions included)."""
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out.update(a.name.split(".")[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            out.add(node.module.split(".")[0])
+    return out
+
+
+def test_only_gb_pin_sim_imports_mujoco_and_importing_gb_pin_loads_it_nowhere() -> None:
+    """MuJoCo (the sim extra) is imported by gb_pin.sim alone, and only when a plant is built.
+
+    In a fresh interpreter, importing every module of gb_pin (gb_pin.sim's included, the viewer's
+    left out: they need meshcat) loads no mujoco: runs without the extra never touch it.
+    """
+    mods = _modules()
+    users = sorted(m for m, p in mods.items() if "mujoco" in _third_party_imports(p))
+    assert users and all(m.startswith("gb_pin.sim.") for m in users), users
+    names = [m for m in mods if not m.startswith("gb_pin.viewer") and not m.endswith("__main__")]
+    code = (
+        "import importlib, sys\n"
+        f"for n in {names!r}: importlib.import_module(n)\n"
+        "print('mujoco' in sys.modules)"
+    )
+    assert _run(code).strip() == "False"
 
 
 def test_no_module_over_500_lines() -> None:

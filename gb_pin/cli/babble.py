@@ -23,6 +23,7 @@ from gb_pin.cli.options import (
     onboarding_lines,
     robot_argument,
 )
+from gb_pin.cli.simulation import plant_summary
 from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
@@ -177,6 +178,8 @@ def run(args: argparse.Namespace) -> int:
     state = result.state
     if args.goals is not None and state is not None:
         print(f"goals            {state.goals!r}")
+    if (plant_line := plant_summary(args, robot)) is not None:
+        print(plant_line)
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:

@@ -16,12 +16,12 @@ from typing import Any
 from gb_pin._names import suggest
 from gb_pin.exceptions import InvalidArgumentError
 
-PlantBuilder = Callable[[Any, dict[str, float]], Any]
-PLANTS: dict[str, tuple[dict[str, float], PlantBuilder, str]] = {}
-"""Plant kinds: name -> (keys with their defaults, builder(robot, values), help)."""
+PlantBuilder = Callable[[Any, dict[str, Any]], Any]
+PLANTS: dict[str, tuple[dict[str, float | None], PlantBuilder, str]] = {}
+"""Plant kinds: name -> (keys with their defaults (None: "auto"), builder(robot, values), help)."""
 
 
-def register_plant(name: str, defaults: dict[str, float], build: PlantBuilder, text: str) -> None:
+def register_plant(name: str, defaults: dict[str, float | None], build: PlantBuilder, text: str) -> None:
     """Make ``--plant NAME[:key=value,...]`` build ``build(robot, values)``."""
     PLANTS[name] = (defaults, build, text)
 
@@ -50,7 +50,7 @@ register_plant(
 def add_body_options(b: argparse.ArgumentParser) -> None:
     """``--plant``, ``--sensor`` and ``--max-joint-step``."""
     kinds = "; ".join(
-        f"{name}:{','.join(f'{k}={v:g}' for k, v in d.items())} ({text})"
+        f"{name}:{','.join(f'{k}={_default(v)}' for k, v in d.items())} ({text})"
         for name, (d, _, text) in PLANTS.items()
     )
     b.add_argument(
@@ -72,7 +72,11 @@ def add_body_options(b: argparse.ArgumentParser) -> None:
     )
 
 
-def parse_spec(option: str, text: str, defaults: dict[str, float]) -> dict[str, float]:
+def _default(value: float | None) -> str:
+    return "auto" if value is None else f"{value:g}"
+
+
+def parse_spec(option: str, text: str, defaults: dict[str, float | None]) -> dict[str, Any]:
     """``key=value,...`` over ``defaults``' keys, numbers only.
 
     Raises:

@@ -36,6 +36,7 @@ from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.presets import get_preset
 from gb_pin.runs.api import babble
 from gb_pin.runs.spec import RunSpec
+from gb_pin.sim.spec import is_plant_spec
 
 
 def run_one_trial(
@@ -171,8 +172,8 @@ def _plan(condition: Condition, movements: int, seed: int) -> _Plan:
     if not isinstance(condition, Condition):
         raise InvalidArgumentError(f"conditions must be gb_pin.Condition objects, got {condition!r}")
     robot = task_robot(condition.robot)
-    if isinstance(robot, str) and ":" not in robot:  # MODULE:NAME robots are checked by the probe run below
-        get_preset(robot)
+    if isinstance(robot, str) and ":" not in robot and not is_plant_spec(robot):  # the probe run checks
+        get_preset(robot)  # MODULE:NAME robots and plants (ROBOT@mujoco)
     parameters = dict(condition.parameters)
     check_parameters(parameters)
     length = (
@@ -392,8 +393,9 @@ def run_trials(
     """Run independent goal-babbling trials (trial i uses seed + i) in parallel.
 
     Args:
-        robot: preset name, MODULE:NAME, a KinematicTarget loaded from a URDF or example-robot-data
-            (each worker rebuilds it from its robot source, onboarding included), or a
+        robot: preset name, MODULE:NAME, a simulated plant (``so101@mujoco:kp=10``), a KinematicTarget
+            loaded from a URDF or example-robot-data (each worker rebuilds it from its robot source,
+            onboarding included), or a
             :class:`~gb_pin.runs.spec.RunSpec` (then ``movements`` and ``seed`` are the spec's, and no
             babble arguments are given here).
         trials: number of trials.

@@ -200,8 +200,12 @@ class BabbleState:
         """f(q_home) as the learner first sees it: given, observed through the sensor, or computed."""
         if given is not None:
             return check.vector("home_position", given, n)
-        if self.chain is None:
-            return check.vector("forward(home)", kinematics.forward(self.home.copy()), n)
+        if self.chain is None:  # a forward model; one whose reading is lost (None) is asked again
+            for _ in range(1000):
+                x = kinematics.forward(self.home.copy())
+                if x is not None:
+                    return check.vector("forward(home)", x, n)
+            raise InvalidArgumentError(f"{kinematics!r:.80} lost 1000 readings of home in a row")
         x = self.chain.forward(self.home)
         if self.sensor is None:
             return x

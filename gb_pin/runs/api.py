@@ -79,6 +79,7 @@ def babble(
             (:mod:`gb_pin.plants`: a mis-calibrated body observed through a sensor), or a
             :class:`~gb_pin.robot.function.FunctionTarget` (a forward model, run step
             by step; no viewer or checkpoints), a changed body (:mod:`gb_pin.robot.bodies`),
+            a simulated plant (:class:`gb_pin.sim.MujocoPlant`, or ``"so101@mujoco:kp=10"``),
             or ``"MODULE:NAME"`` naming one of those in a module or ``.py`` file.
         movements: number of movements (home returns included).
         seed: an int seed or a numpy Generator; same seed, same result.
@@ -158,7 +159,7 @@ def babble(
     if isinstance(run.target, FunctionTarget):
         from gb_pin.runs.stepped import babble_function
 
-        return babble_function(run, callback, viewer, checkpoint, checkpoint_every)
+        return babble_function(run, callback, viewer, checkpoint, checkpoint_every, observe_every)
     from gb_pin.runs.checkpoint import checkpoint_lock
 
     learner = run.learner

@@ -46,6 +46,7 @@ class CheckpointInfo:
         source: how to rebuild a robot that is no preset (:mod:`gb_pin.runs.robot_source`), or None.
         evaluate: where a session's E^X comes from (``"model"``, ``"movements"``, ``"none"``).
         unobserved: test targets of a session's evaluation movements whose reading never arrived.
+        robot_state: the arrays of a robot with a state of its own (a simulated plant), or None.
     """
 
     robot: str | None
@@ -57,6 +58,12 @@ class CheckpointInfo:
     source: dict[str, Any] | None = None
     evaluate: str = "model"
     unobserved: int = 0
+    robot_state: dict[str, Any] | None = None
+
+
+ROBOT_STATE = "robot_state."
+"""Prefix of the arrays of a robot's own state (a simulated plant's) in a checkpoint."""
+MAX_ROBOT_ARRAYS = 16
 
 
 def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: CheckpointInfo) -> None:
@@ -76,7 +83,10 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
     }
     if info.source is not None:
         meta["robot_source"] = info.source
-    atomic_savez(os.fspath(path), dict(state.to_arrays()), meta)
+    arrays = dict(state.to_arrays())
+    for key, value in (info.robot_state or {}).items():
+        arrays[ROBOT_STATE + key] = value
+    atomic_savez(os.fspath(path), arrays, meta)
 
 
 def state_header(state: BabbleState) -> dict[str, Any]:
@@ -116,6 +126,9 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
     """
     path = os.fspath(path)
     arrays, meta = read_archive(path, "checkpoint", FORMAT, FORMAT_VERSION)
+    own = {k[len(ROBOT_STATE) :]: arrays.pop(k) for k in sorted(arrays) if k.startswith(ROBOT_STATE)}
+    if len(own) > MAX_ROBOT_ARRAYS:
+        raise ResultFileError(f"{path}: {len(own)} robot state arrays (at most {MAX_ROBOT_ARRAYS})")
     try:
         config = BabbleConfig(**fields.config(path, meta))
         movements = fields.count(path, meta, "movements")
@@ -129,6 +142,7 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             source=robot_source.check(path, meta.get("robot_source")),
             evaluate=_evaluate_mode(path, meta.get("evaluate", "model")),
             unobserved=fields.count(path, meta, "unobserved") if "unobserved" in meta else 0,
+            robot_state=own or None,
         )
         state = read_state(path, arrays, meta, config)
     except GbPinError as exc:
@@ -155,6 +169,38 @@ def checkpoint_robot(path: str | os.PathLike[str], info: CheckpointInfo) -> Any:
             "cannot rebuild; pass it as robot= to resume"
         )
     return robot_source.rebuild(os.fspath(path), info.source)
+
+
+def robot_state(robot: Any) -> dict[str, Any] | None:
+    """The arrays of a robot's own state (``robot.robot_state()``: a simulated plant's), or None."""
+    save = getattr(robot, "robot_state", None)
+    return None if save is None else dict(save())
+
+
+def restore_robot_state(path: str | os.PathLike[str], robot: Any, arrays: dict[str, Any] | None) -> None:
+    """Put a robot with a state of its own back in the state a checkpoint saved (``set_robot_state``).
+
+    Raises:
+        ResultFileError: the checkpoint holds such a state and the robot takes none, or the other
+            way round, or the robot refuses the arrays (malformed, or another plant's).
+    """
+    where = os.fspath(path)
+    restore = getattr(robot, "set_robot_state", None)
+    if arrays is None and restore is None:
+        return
+    if arrays is None:
+        raise ResultFileError(
+            f"{where}: written without the state of a simulated robot; {robot!r:.120} needs one"
+        )
+    if restore is None:
+        raise ResultFileError(
+            f"{where}: holds the state of a simulated robot; resume with that robot (e.g. its MujocoPlant), "
+            f"not {robot!r:.120}"
+        )
+    try:
+        restore(arrays)
+    except GbPinError as exc:
+        raise ResultFileError(f"{where}: {exc}") from exc
 
 
 def _evaluate_mode(path: str, value: Any) -> str:

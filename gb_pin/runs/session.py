@@ -94,8 +94,10 @@ class BabbleSession:
 
     def _attach(self, state: BabbleState) -> None:
         self.state = state
-        forward = (
-            None if state.chain is not None or isinstance(self.target, ExternalRobot) else self.target.forward
+        forward = (  # E^X of a plant on its true body (no lag, no noise): its true_forward
+            None
+            if state.chain is not None or isinstance(self.target, ExternalRobot)
+            else getattr(self.target, "true_forward", self.target.forward)
         )
         self._stepper = AskTell(state, self.total, forward=forward, evaluate=self.evaluate)
 
@@ -256,12 +258,14 @@ class BabbleSession:
         """Write the complete state now (to ``path``, default the session's checkpoint file); returns where.
 
         An unanswered ask is not saved: after :func:`resume_session` it is asked again (same posture).
+        A robot with a state of its own (a simulated plant: ``robot_state()``) is saved with it;
+        save between a tell and the next ask, when robot and learner agree.
 
         Raises:
             InvalidArgumentError: no file given or set, a path that cannot be written, another run's
                 file, or nothing to save yet (an external robot's home reading has not arrived).
         """
-        from gb_pin.runs.checkpoint import CheckpointInfo, checkpoint_lock, write_checkpoint
+        from gb_pin.runs.checkpoint import CheckpointInfo, checkpoint_lock, robot_state, write_checkpoint
         from gb_pin.runs.robot_source import describe
 
         where = path if path is not None else self.checkpoint
@@ -275,7 +279,7 @@ class BabbleSession:
             robot=self.robot, target_name=self.target.name, movements=self.total, seed=self.seed,
             config=self.state.config, wall_time=self.wall_time,
             source=describe(self.target, self.robot) if self.state.chain is not None else None,
-            evaluate=self.evaluate, unobserved=self.unobserved,
+            evaluate=self.evaluate, unobserved=self.unobserved, robot_state=robot_state(self.target),
         )  # fmt: skip
         same = self.checkpoint is not None and os.path.abspath(where) == os.path.abspath(self.checkpoint)
         with ExitStack() as locks:
@@ -426,20 +430,22 @@ def resume_session(
     Args:
         checkpoint: the file.
         robot: the robot; needed (and checked against the file) for a robot given as a function,
-            an external robot, a plant, or a model the file cannot rebuild.
+            an external robot, a plant, or a model the file cannot rebuild. A simulated plant
+            continues from the state the checkpoint saved.
         checkpoint_every: movements between checkpoints (default a tenth of the run).
 
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one of another robot.
         InvalidArgumentError: the robot is needed and not given.
     """
-    from gb_pin.runs.checkpoint import checkpoint_robot, read_checkpoint, same_robot
+    from gb_pin.runs.checkpoint import checkpoint_robot, read_checkpoint, restore_robot_state, same_robot
 
     check_writable(checkpoint, "checkpoint")
     state, info = read_checkpoint(checkpoint)
     if robot is None:
         robot = checkpoint_robot(checkpoint, info)
     same_robot(checkpoint, robot, state)
+    restore_robot_state(checkpoint, robot, info.robot_state)  # a simulated plant continues where it was
     session = BabbleSession(
         robot, state, info.movements, robot=info.robot, seed=info.seed, checkpoint=checkpoint,
         checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate,

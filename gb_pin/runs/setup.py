@@ -29,12 +29,15 @@ from gb_pin.robot.presets import get_preset, load_robot
 from gb_pin.robot.spec import is_robot_spec, load_robot_spec
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs.spec import RunSpec
+from gb_pin.sim.spec import is_plant_spec
 
 Target = KinematicTarget | FunctionTarget | ChangedBody | ExternalRobot
 
 
 def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
     """(target, preset name or None, the preset's learner defaults); ``MODULE:NAME`` loads a robot.
+
+    ``ROBOT@mujoco[:options]`` builds a simulated plant (:mod:`gb_pin.sim`), with ROBOT's defaults.
 
     Raises:
         UnknownRobotError: unknown preset name.
@@ -47,6 +50,10 @@ def resolve_robot(robot: Any) -> tuple[Target, str | None, dict[str, Any]]:
         # An onboarded robot (or a plant of one) brings the radius and sigma it measured.
         model = robot if isinstance(robot, KinematicTarget) else getattr(robot, "target", None)
         return robot, None, dict(model.learner_defaults) if isinstance(model, KinematicTarget) else {}
+    if is_plant_spec(robot):  # "so101@mujoco:kp=10": a simulated plant (gb_pin.sim)
+        from gb_pin.sim.plant import MujocoPlant
+
+        return resolve_robot(MujocoPlant.from_spec(robot))
     if isinstance(robot, str) and is_robot_spec(robot):
         return resolve_robot(load_robot_spec(robot))[0], None, {}
     if isinstance(robot, str):

@@ -18,24 +18,32 @@ def babble_function(
     viewer: Any | None,
     checkpoint: str | os.PathLike[str] | None,
     checkpoint_every: int | None,
+    observe_every: int = 10,
 ) -> BabbleResult:
     """babble() on a :class:`~gb_pin.robot.function.FunctionTarget`, by the ask/tell stepping.
 
     A Python ``forward()`` is called once per step; a compiled kernel runs inside compiled code,
     whole movements at a time. Checkpoints are written as in a session (every ``checkpoint_every``
-    movements, and at the end).
+    movements, and at the end). A viewer draws a simulated plant's kinematic robot (its ``target``)
+    at the asked postures, every ``observe_every`` movements.
 
     Raises:
-        InvalidArgumentError: a viewer was asked for (it draws a compiled chain).
+        InvalidArgumentError: a viewer was asked for a robot without a kinematic robot to draw.
     """
-    if viewer is not None:
-        raise InvalidArgumentError("viewer= needs a robot with a compiled chain (a KinematicTarget)")
     target: Any = run.target
+    drawn = getattr(target, "target", None)  # a simulated plant: the kinematic robot it was built from
+    if viewer is not None and getattr(drawn, "chain", None) is None:
+        raise InvalidArgumentError(
+            "viewer= needs a robot with a compiled chain (a KinematicTarget) or a plant built on one"
+        )
     session = BabbleSession(
         target, setup.start_state(run), run.movements, robot=None, seed=run.seed, checkpoint=checkpoint,
         checkpoint_every=checkpoint_every,
     )  # fmt: skip
     every = max(1, run.movements // 100)
+    if viewer is not None:
+        assert session.state is not None
+        viewer.start(drawn, session.state.eval_targets)
     with session:
         if target.kernel is not None:  # a compiled forward model: whole movements in compiled code
             stepper = session._stepper
@@ -54,10 +62,10 @@ def babble_function(
             return session.result()
         forward = target.forward  # checks each reading, naming the model if it returns nonsense
         while not session.done:
-            if (
-                session.tell(forward(session.ask()))
-                and callback is not None
-                and session.movements % every == 0
-            ):
+            if not session.tell(forward(session.ask())):
+                continue
+            if callback is not None and session.movements % every == 0:
                 callback(session.movements)
+            if viewer is not None and session.movements % observe_every == 0:
+                viewer.update(session.state)
         return session.result()

@@ -1,0 +1,316 @@
+"""MujocoPlant: a robot gb_pin loads, simulated by MuJoCo: position servos, gravity, settling.
+
+>>> plant = MujocoPlant("so101", kp=10.0, settle=0.2, gravity=True, seed=0)   # doctest: +SKIP
+>>> result = gb_pin.babble(plant, movements=3000)                              # doctest: +SKIP
+
+A kinematic chain, even a mis-calibrated one, answers every posture at once and exactly. A real
+arm has dynamics: each servo holds its joint short of the command by the gravity torque over its
+gain (a posture-dependent sag), and takes time to get there. The plant is such an arm
+(:mod:`gb_pin.sim.mjcf`: the learner's own chain and Pinocchio's inertias as a MuJoCo model,
+:mod:`gb_pin.sim.servos`), read through an optional :class:`~gb_pin.learn.sensor.Sensor`.
+
+It is a robot wherever a :class:`~gb_pin.robot.function.FunctionTarget` is: ``babble(plant)``
+runs it step by step through the ask/tell stepping, ``babble_session(plant)`` sessions take its
+readings, ``"so101@mujoco:kp=10"`` names it for trials and the command line (:mod:`gb_pin.sim.spec`).
+
+- :meth:`forward` is one ask: the servos are commanded to q and the simulation runs from where
+  the arm is now until the settling rule (:mod:`gb_pin.sim.settling`) says to read; the task
+  vector is read at the simulated joint positions (through the learner's task map: the same
+  frame, axes and components), then through the sensor (None: the reading was lost). The plant
+  keeps its state between asks, as a real arm does: with a short settling the arm is still on
+  its way from the last posture when it is read.
+- :meth:`true_forward` is the body without lag or noise: the resting posture under the command
+  (:func:`~gb_pin.sim.equilibrium.static_posture`), pure (it does not move the arm). E^X and the
+  reach errors of docs/SIMULATION.md are measured with it.
+
+Determinism: the same plant settings, seed and sequence of asks give the same readings, bit for
+bit (MuJoCo is deterministic on one machine and build). Sessions save the plant's state in their
+checkpoints (:mod:`gb_pin.sim.snapshot`), so a resumed session continues bit-identical.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.sensor import Sensor, observe_into
+from gb_pin.robot.function import FunctionTarget
+from gb_pin.sim import snapshot
+from gb_pin.sim.dependency import require_mujoco
+from gb_pin.sim.equilibrium import static_posture
+from gb_pin.sim.mjcf import mjcf
+from gb_pin.sim.servos import Servos, short
+from gb_pin.sim.settling import Settling
+from gb_pin.sim.spec import spec_of, split_spec
+
+
+class MujocoPlant(FunctionTarget):
+    """A robot simulated by MuJoCo: position servos per moved joint, gravity, a settling rule, a sensor.
+
+    Args:
+        robot: a preset name (``"so101"``), a :class:`~gb_pin.robot.target.KinematicTarget`
+            (from a URDF or example-robot-data), or ``"MODULE:NAME"`` naming one.
+        kp: servo position gain [N m/rad] (one number, or one per joint).
+        damping: servo damping kv [N m s/rad]; None: 0.05 kp.
+        force_limit: largest servo torque [N m]; None: unlimited.
+        armature: rotor inertia added to each joint [kg m^2] (stability of light links).
+        gravity: gravity on (the robot model's, -9.81 m/s^2 along z) or off.
+        settle: longest hold of an ask [s] (default 0.5), ended earlier once the arm is at rest.
+        tolerance: joint speed of "at rest" [rad/s] (default 0.01).
+        period: instead of settling: hold each ask exactly this long [s] (a fixed control period).
+        timestep: MuJoCo's integration step [s].
+        noise: the sensor's noise per task axis [m] (one number or one per axis).
+        loss: probability that a reading is lost (:meth:`forward` returns None).
+        seed: the sensor's seed (the physics draws nothing).
+        targets: the goal set (N, n) [m]; default the robot's (its preset's), else its "auto" grid.
+        name: a label; default e.g. ``"so101 in MuJoCo (kp 10)"``.
+
+    Attributes:
+        target: the kinematic robot it was built from (its URDF kinematics: exact IK runs on it).
+        servos, settling: the servos and the settling rule (:class:`~gb_pin.sim.servos.Servos`,
+            :class:`~gb_pin.sim.settling.Settling`).
+        tracker: the :class:`~gb_pin.learn.sensor.Sensor` that reads the hand (named apart from a
+            kinematic plant's ``sensor``, which the compiled loop applies itself; this one is
+            applied by :meth:`forward`).
+        gravity: whether gravity is on.
+        text: the MJCF model text; ``mj_model`` and ``mj_data``: MuJoCo's model and the arm's state.
+        asks, steps: asks answered and MuJoCo steps taken so far.
+        preset: the preset's name when the robot was given by it (``babble`` then takes the preset's
+            learner settings, as for a kinematic plant).
+        spec: the string that rebuilds this plant (``"so101@mujoco:kp=10,..."``), None for a
+            robot given as an object.
+
+    Raises:
+        SimulationError: MuJoCo is not installed (the message says how to install it).
+        UnknownRobotError: an unknown preset.
+        InvalidArgumentError: a robot without a Pinocchio model, or a bad setting.
+    """
+
+    def __init__(
+        self,
+        robot: Any = "so101",
+        *,
+        kp: float | ArrayLike = 10.0,
+        damping: float | ArrayLike | None = None,
+        force_limit: float | ArrayLike | None = None,
+        armature: float | ArrayLike = 0.01,
+        gravity: bool = True,
+        settle: float | None = None,
+        tolerance: float | None = None,
+        period: float | None = None,
+        timestep: float = 0.002,
+        noise: float | ArrayLike = 0.0,
+        loss: float = 0.0,
+        seed: int = 0,
+        targets: ArrayLike | None = None,
+        name: str | None = None,
+    ) -> None:
+        mujoco = require_mujoco()
+        self._mj = mujoco
+        self.target, robot_name = _kinematic_robot(robot)
+        self.preset: str | None = robot_name if robot_name is not None and ":" not in robot_name else None
+        given = {
+            "kp": kp, "damping": damping, "force_limit": force_limit, "armature": armature,
+            "gravity": gravity, "settle": settle, "tolerance": tolerance, "period": period,
+            "timestep": timestep, "noise": noise, "loss": loss, "seed": seed,
+        }  # fmt: skip
+        m = self.target.n_joints
+        self.servos = Servos.of(m, kp, damping, force_limit, armature)
+        self.settling = Settling.of(settle, tolerance, period)
+        if not isinstance(gravity, bool | np.bool_):
+            raise InvalidArgumentError(f"gravity must be True or False, got {gravity!r}")
+        self.gravity = bool(gravity)
+        self.timestep = check.positive_float("timestep", timestep)
+        if self.timestep > 0.05:
+            raise InvalidArgumentError(
+                f"timestep must be at most 0.05 s (MuJoCo's default is 0.002), got {timestep!r}"
+            )
+        self.seed = check.positive_int("seed", seed, 0, 2**63 - 1)
+        self.tracker = Sensor(noise, loss, np.random.default_rng(self.seed))
+        self.tracker.std(self.target.n_task)  # a per-axis noise of the wrong length is refused now
+        self.text = mjcf(self.target, self.servos, gravity=self.gravity, timestep=self.timestep,
+                         name=self.target.name)  # fmt: skip
+        self.mj_model = mujoco.MjModel.from_xml_string(self.text)
+        self.mj_data = mujoco.MjData(self.mj_model)
+        self._scratch = mujoco.MjData(self.mj_model)  # for true_forward: the arm's own state is untouched
+        self._dofs = np.array(
+            [self.mj_model.jnt_dofadr[self.mj_model.joint(j).id] for j in self.target.joints], dtype=np.int64
+        )
+        self._body = self.target.chain.kernel()
+        self._x = np.empty(self.target.n_task)
+        self._state_kind = mujoco.mjtState.mjSTATE_INTEGRATION
+        self._settings = snapshot.digest(self.text, repr(self.settling), repr(self.tracker))
+        label = name or f"{self.target.name} in MuJoCo (kp {short(self.servos.kp)})"
+        super().__init__(
+            self.true_forward, self.target.home, lower=self.target.lower, upper=self.target.upper,
+            targets=self.target.targets if targets is None else targets, name=label,
+        )  # fmt: skip
+        self.axes = getattr(self.target, "axes", None)
+        self.spec = spec_of(robot_name, given)  # (after every check: the values are valid)
+        self.reset()
+
+    @classmethod
+    def from_spec(cls, spec: str) -> MujocoPlant:
+        """The plant a string names: ``"so101@mujoco:kp=10,settle=0.2"`` (see :mod:`gb_pin.sim.spec`).
+
+        Raises:
+            InvalidArgumentError: a malformed string or a bad option.
+            UnknownRobotError: an unknown preset.
+            SimulationError: MuJoCo is not installed.
+        """
+        robot, options = split_spec(spec)
+        return cls(robot, **options)
+
+    # -- the arm ---------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Back to rest at home (the resting posture under the home command), the sensor re-seeded."""
+        mj = self._mj
+        mj.mj_resetData(self.mj_model, self.mj_data)
+        self.mj_data.qpos[self._dofs] = self.posture_at(self.home)
+        self.mj_data.ctrl[:] = self.home
+        mj.mj_forward(self.mj_model, self.mj_data)
+        self._readings = self.tracker.start(self.target.n_task)
+        self.asks = 0
+        self.steps = 0
+
+    def forward(self, q: ArrayLike) -> NDArray[np.float64] | None:  # type: ignore[override]
+        """One ask: command ``q`` (m,), simulate by the settling rule, read the task vector (n,) [m].
+
+        The simulation goes on from the arm's current state. ``q`` is executed as given (the
+        session clips it to the limits). (N, m) postures are asked one after the other, giving
+        (N, n) readings (NaN rows where a reading was lost).
+
+        Returns:
+            The sensor's reading, or None when it was lost.
+
+        Raises:
+            InvalidArgumentError: a posture of the wrong shape or not finite.
+        """
+        if np.ndim(q) == 2:
+            arr = check.points("q", q, self.n_joints)
+            rows = [self.forward(row) for row in arr]
+            return np.array([np.full(self.n_task, np.nan) if r is None else r for r in rows])
+        command = check.vector("q", q, self.n_joints)
+        self.mj_data.ctrl[:] = command
+        self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data)
+        self.asks += 1
+        x = self._task(self.mj_data.qpos[self._dofs])
+        if self.tracker.ideal:  # (the compiled sensor's call costs 35 us: skipped when it would do nothing)
+            return x
+        return x if observe_into(self._readings, x) else None
+
+    def true_forward(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Where the hand rests under the command ``q``: (m,) -> (n,), (N, m) -> (N, n) [m].
+
+        No lag, no noise, and the arm is not moved: the true body of the plant.
+
+        Raises:
+            InvalidArgumentError: postures of the wrong shape or not finite.
+        """
+        single = np.ndim(q) == 1
+        Q = check.points("q", q, self.n_joints, allow_single=True)
+        out = np.array([self._task(self.posture_at(c)) for c in Q])
+        return out[0] if single else out
+
+    def posture_at(self, q: ArrayLike) -> NDArray[np.float64]:
+        """The joint positions (m,) at which the arm rests under the command ``q`` (m,) [rad]."""
+        command = check.vector("q", q, self.n_joints)
+        return static_posture(self._mj, self.mj_model, self._scratch, self._dofs, command, self.servos)
+
+    @property
+    def posture(self) -> NDArray[np.float64]:
+        """The simulated joint positions now (m,) [rad] (what the servos hold, not what was asked)."""
+        return np.array(self.mj_data.qpos[self._dofs])
+
+    @property
+    def home_position(self) -> NDArray[np.float64]:
+        """Where the hand rests under the home command [m] (:meth:`true_forward`; the arm is not moved)."""
+        return self.true_forward(self.home)
+
+    def frame_position(self, q: ArrayLike) -> NDArray[np.float64]:
+        """MuJoCo's own kinematics: the task frame's world position (3,) [m] at joint positions ``q``.
+
+        The joints are set, not commanded (infinitely stiff servos); the arm is not moved. Equals
+        the learner's chain (:attr:`target`) to rounding: the model conversion's check.
+        """
+        posture = check.vector("q", q, self.n_joints)
+        self._scratch.qpos[self._dofs] = posture
+        self._mj.mj_kinematics(self.mj_model, self._scratch)
+        return np.array(self._scratch.site("frame").xpos)
+
+    def _task(self, posture: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The learner's task vector at joint positions ``posture`` (a fresh array)."""
+        body_forward(np.ascontiguousarray(posture), self._body, self._x)
+        return self._x.copy()
+
+    # -- goal sets: the kinematic robot's -----------------------------------------------------
+    def auto_targets(self) -> NDArray[np.float64]:
+        """The kinematic robot's "auto" grid (the largest reachable grid around home)."""
+        return self.target.auto_targets()
+
+    def check_targets(self, targets: ArrayLike, what: str = "targets") -> NDArray[np.float64]:
+        """Targets checked by the kinematic robot (shape, finite, a warning for those beyond reach)."""
+        return self.target.check_targets(targets, what)
+
+    # -- checkpoints ---------------------------------------------------------------------------
+    def robot_state(self) -> dict[str, NDArray[Any]]:
+        """The arm's and the sensor's state as arrays (see :mod:`gb_pin.sim.snapshot`)."""
+        size = self._mj.mj_stateSize(self.mj_model, self._state_kind)
+        state = np.empty(size)
+        self._mj.mj_getState(self.mj_model, self.mj_data, state, self._state_kind)
+        return {
+            "counters": np.array([self.asks, self.steps], dtype=np.int64),
+            "mujoco": state,
+            "sensor": snapshot.generator_words(self._readings.rng),
+            "settings": self._settings.copy(),
+        }
+
+    def set_robot_state(self, arrays: dict[str, NDArray[Any]]) -> None:
+        """Continue from a state of :meth:`robot_state` (a checkpoint's), checked first.
+
+        Raises:
+            InvalidArgumentError: arrays missing or malformed, or written by a plant of other settings.
+        """
+        size = self._mj.mj_stateSize(self.mj_model, self._state_kind)
+        checked = snapshot.unpack(arrays, size, self._settings)
+        self._mj.mj_setState(self.mj_model, self.mj_data, checked["mujoco"], self._state_kind)
+        self._mj.mj_forward(self.mj_model, self.mj_data)
+        snapshot.set_generator(self._readings.rng, checked["sensor"])
+        self.asks, self.steps = (int(v) for v in checked["counters"])
+
+    def __repr__(self) -> str:
+        return (
+            f"MujocoPlant({self.target.name!r}, {self.servos.describe()}, gravity "
+            f"{'on' if self.gravity else 'off'}, {self.settling.describe()}, tracker={self.tracker!r})"
+        )
+
+
+def _kinematic_robot(robot: Any) -> tuple[Any, str | None]:
+    """(the KinematicTarget, its name as given: a preset or ``MODULE:NAME``, or None) of ``robot``.
+
+    Raises:
+        UnknownRobotError: an unknown preset.
+        InvalidArgumentError: a robot without a compiled chain and a Pinocchio model.
+    """
+    name = robot if isinstance(robot, str) else None
+    if isinstance(robot, str) and ":" in robot:
+        from gb_pin.robot.spec import load_robot_spec
+
+        robot = load_robot_spec(robot)
+    elif isinstance(robot, str):
+        from gb_pin.robot.presets import load_robot
+
+        robot = load_robot(robot)
+    from gb_pin.robot.target import KinematicTarget
+
+    if not isinstance(robot, KinematicTarget):
+        raise InvalidArgumentError(
+            "a MuJoCo plant is built from a robot with a Pinocchio model (a preset name, or a "
+            f"KinematicTarget from a URDF or example-robot-data), got {robot!r:.120}"
+        )
+    return robot, name
