@@ -17,6 +17,7 @@ while the session lives) and continue with :func:`resume_session`.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import time
 import warnings
@@ -113,9 +114,10 @@ class BabbleSession:
         self.close()
 
     def __del__(self) -> None:
-        locks = getattr(self, "_locks", None)
-        if locks is not None:
-            locks.close()
+        if getattr(self, "checkpoint", None) is None:
+            return  # no lock held (and nothing to do at interpreter exit)
+        with contextlib.suppress(Exception):  # at interpreter exit the lock dies with the process anyway
+            self._locks.close()
 
     # -- progress -----------------------------------------------------------------------
     @property
