@@ -62,19 +62,23 @@ class LocalLinearMap:
             )
         n, m = x0.shape[0], q0.shape[0]
         capacity = max(int(capacity), 1)
+        # Storage as the kernels take it (MapArrays): P (capacity, n); W and O entry-major,
+        # contiguous over the prototypes: W[i, j, k] = (W_k)_ij, O[i, k] = (o_k)_i.
         self._P = np.zeros((capacity, n))
-        self._W = np.zeros((capacity, m, n))
-        self._O = np.zeros((capacity, m))
+        self._W = np.zeros((m, n, capacity))
+        self._O = np.zeros((m, capacity))
         self._P[0] = x0
-        self._O[0] = q0
+        self._O[:, 0] = q0
         self._K = 1
         self._radius = radius
         self._allocate_scratch()
         return self
 
     def _allocate_scratch(self) -> None:
-        m, n = self._O.shape[1], self._P.shape[1]
-        self._act = np.empty(self._P.shape[0])
+        m, n, capacity = self._W.shape
+        self._act = np.empty(capacity)
+        self._U = np.empty((n, capacity))
+        self._Y = np.empty((m, capacity))
         self._g = np.empty(m)
         self._y = np.empty(m)
         self._J = np.empty((m, n))
@@ -84,17 +88,20 @@ class LocalLinearMap:
         if capacity <= self._P.shape[0]:
             return
         new = max(capacity, 2 * self._P.shape[0])
-        for name in ("_P", "_W", "_O"):
-            old = getattr(self, name)
-            grown = np.zeros((new, *old.shape[1:]))
-            grown[: self._K] = old[: self._K]
-            setattr(self, name, grown)
+        K = self._K
+        P = np.zeros((new, self._P.shape[1]))
+        P[:K] = self._P[:K]
+        W = np.zeros((*self._W.shape[:2], new))
+        W[:, :, :K] = self._W[:, :, :K]
+        O = np.zeros((self._O.shape[0], new))
+        O[:, :K] = self._O[:, :K]
+        self._P, self._W, self._O = P, W, O
         self._allocate_scratch()
 
     def kernel(self) -> MapArrays:
         """The storage and scratch buffers as the compiled kernels take them."""
         self._check_fitted()
-        return MapArrays(self._P, self._W, self._O, self._radius, self._act)
+        return MapArrays(self._P, self._W, self._O, self._radius, self._act, self._U, self._Y)
 
     def scratch(self) -> Scratch:
         """The buffers of learning steps and Jacobians."""
@@ -114,8 +121,12 @@ class LocalLinearMap:
         self._K = int(K)
 
     def to_arrays(self) -> dict[str, NDArray[np.float64]]:
-        """The learned map as ``prototypes`` (K, n), ``matrices`` (K, m, n), ``offsets`` (K, m)."""
-        return {"prototypes": self.prototypes_, "matrices": self.matrices_, "offsets": self.offsets_}
+        """The learned map as ``prototypes`` (K, n), ``matrices`` (K, m, n), ``offsets`` (K, m) (copies)."""
+        return {
+            "prototypes": self.prototypes_.copy(),
+            "matrices": np.ascontiguousarray(self.matrices_),
+            "offsets": np.ascontiguousarray(self.offsets_),
+        }
 
     @classmethod
     def from_arrays(
@@ -151,7 +162,9 @@ class LocalLinearMap:
             raise InvalidArgumentError("model arrays are not finite")
         lm = cls(radius=radius, learning_rate=learning_rate)
         lm.initialize(P[0], O[0], capacity=max(K, capacity or K))
-        lm._P[:K], lm._W[:K], lm._O[:K] = P, W, O
+        lm._P[:K] = P
+        lm._W[:, :, :K] = np.transpose(W, (1, 2, 0))
+        lm._O[:, :K] = O.T
         lm._K = K
         return lm
 
@@ -173,15 +186,15 @@ class LocalLinearMap:
 
     @property
     def matrices_(self) -> NDArray[np.float64]:
-        """(K, m, n) local matrices W_k, acting on (x - p_k) / d."""
+        """(K, m, n) local matrices W_k, acting on (x - p_k) / d (a view of the storage)."""
         self._check_fitted()
-        return self._W[: self._K]
+        return np.transpose(self._W[:, :, : self._K], (2, 0, 1))
 
     @property
     def offsets_(self) -> NDArray[np.float64]:
-        """(K, m) local offsets o_k."""
+        """(K, m) local offsets o_k (a view of the storage)."""
         self._check_fitted()
-        return self._O[: self._K]
+        return self._O[:, : self._K].T
 
     @property
     def n_inputs_(self) -> int:
@@ -193,7 +206,7 @@ class LocalLinearMap:
     def n_outputs_(self) -> int:
         """Output (posture) dimension m."""
         self._check_fitted()
-        return int(self._O.shape[1])
+        return int(self._O.shape[0])
 
     # -- scikit-learn style interface -------------------------------------------
     def predict(self, X: ArrayLike, *, warn: bool = True) -> NDArray[np.float64]:

@@ -12,37 +12,47 @@ Conventions (the paper is silent; these reproduce its numbers):
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
 The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
-matrices W (K, m, n), offsets O (K, m); :class:`Scratch` buffers): no allocation per step.
+matrices and offsets stored entry-major, contiguous over the prototypes (:mod:`gb_pin.learn.llm_passes`);
+:class:`Scratch` buffers): no allocation per step.
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
+from gb_pin.learn.llm_passes import activations, descend, row_sums, scaled_inputs, weighted_outputs
 
 
 class MapArrays(NamedTuple):
     """A local-linear map's storage, as the compiled kernels take it (what a prediction reads).
 
+    Prototype k's numbers are stored entry-major, contiguous over k, so that the passes over
+    the prototypes vectorise (:mod:`gb_pin.learn.llm_passes`); :class:`~gb_pin.learn.llm.LocalLinearMap`
+    converts to and from the (K, m, n) layout of its attributes and files.
+
     Attributes:
         prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
-        matrices: (capacity, m, n) local matrices W_k (acting on (x - p_k) / d).
-        offsets: (capacity, m) local offsets o_k.
+        matrix_entries: (m, n, capacity) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
+            (W_k acts on (x - p_k) / d).
+        offset_entries: (m, capacity) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
         radius: d [m].
         act: (capacity,) scratch: the activations of the last prediction.
+        inputs: (n, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
+        outputs: (m, capacity) scratch: the weighted local outputs of the last prediction.
     """
 
     prototypes: NDArray[np.float64]
-    matrices: NDArray[np.float64]
-    offsets: NDArray[np.float64]
+    matrix_entries: NDArray[np.float64]
+    offset_entries: NDArray[np.float64]
     radius: float
     act: NDArray[np.float64]
+    inputs: NDArray[np.float64]
+    outputs: NDArray[np.float64]
 
 
 class Scratch(NamedTuple):
@@ -63,36 +73,20 @@ class Scratch(NamedTuple):
 def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
-    ``lm.act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)).
+    ``lm.act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)) and
+    ``lm.inputs`` the scaled inputs u_k.
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
-    n = x.shape[0]
-    m = out.shape[0]
-    inv = 1.0 / radius
-    smallest = np.inf
-    for k in range(K):
-        s = 0.0
-        for j in range(n):
-            u = (x[j] - P[k, j]) * inv
-            s += u * u
-        act[k] = s
-        if s < smallest:
-            smallest = s
-    total = 0.0
-    for i in range(m):
-        out[i] = 0.0
-    for k in range(K):
-        a = math.exp(smallest - act[k])
-        act[k] = a
-        total += a
-        for i in range(m):
-            y = O[k, i]
-            for j in range(n):
-                y += W[k, i, j] * ((x[j] - P[k, j]) * inv)
-            out[i] += a * y
-    for i in range(m):
-        out[i] /= total
-    return total, smallest
+    nearest = scaled_inputs(x, lm.prototypes, 1.0 / lm.radius, K, lm.inputs, lm.act)
+    return _finish_prediction(lm, K, nearest, out), nearest
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _finish_prediction(lm, K, nearest, out):  # type: ignore[no-untyped-def]
+    """g into ``out`` from the scaled inputs and squared norms in ``lm``; returns the sum of activations."""
+    total = activations(lm.act, K, nearest)
+    weighted_outputs(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, lm.outputs)
+    row_sums(lm.outputs, K, total, out)
+    return total
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -102,11 +96,11 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
     J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    W, O, U, act = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
     g, y, J = scratch
     n = x.shape[0]
     m = g.shape[0]
-    inv = 1.0 / radius
+    inv = 1.0 / lm.radius
     total, _ = llm_predict(x, lm, K, g)
     for i in range(m):
         for j in range(n):
@@ -114,14 +108,14 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     for k in range(K):
         beta = act[k] / total
         for i in range(m):
-            yi = O[k, i]
+            yi = O[i, k]
             for j in range(n):
-                yi += W[k, i, j] * ((x[j] - P[k, j]) * inv)
+                yi += W[i, j, k] * U[j, k]
             y[i] = yi
         for i in range(m):
             r = 2.0 * (y[i] - g[i])
             for j in range(n):
-                J[i, j] += beta * (W[k, i, j] - r * ((x[j] - P[k, j]) * inv))
+                J[i, j] += beta * (W[i, j, k] - r * U[j, k])
     for i in range(m):
         for j in range(n):
             J[i, j] *= inv
@@ -133,7 +127,7 @@ def llm_insert(x, lm, K, scratch):  # type: ignore[no-untyped-def]
 
     The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
     """
-    P, W, O, radius = lm.prototypes, lm.matrices, lm.offsets, lm.radius
+    P, W, O, radius = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.radius
     g, J = scratch.g, scratch.J
     llm_jacobian(x, lm, K, scratch)
     n = x.shape[0]
@@ -141,9 +135,9 @@ def llm_insert(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     for j in range(n):
         P[K, j] = x[j]
     for i in range(m):
-        O[K, i] = g[i]
+        O[i, K] = g[i]
         for j in range(n):
-            W[K, i, j] = radius * J[i, j]
+            W[i, j, K] = radius * J[i, j]
     return K + 1
 
 
@@ -154,28 +148,21 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     Inserts a prototype first if ``x`` is at distance >= d from all prototypes,
     then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
     o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
+    With w = 0 only the distances are computed (whether to insert).
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
-    g, y = scratch.g, scratch.y
-    n = x.shape[0]
+    g, e = scratch.g, scratch.y
     m = q.shape[0]
-    inv = 1.0 / radius
-    total, smallest = llm_predict(x, lm, K, g)
-    if smallest >= 1.0:
+    inv = 1.0 / lm.radius
+    nearest = scaled_inputs(x, lm.prototypes, inv, K, lm.inputs, lm.act)
+    if nearest >= 1.0:
         K = llm_insert(x, lm, K, scratch)
-        total, smallest = llm_predict(x, lm, K, g)
+        nearest = scaled_inputs(x, lm.prototypes, inv, K, lm.inputs, lm.act)
     if w == 0.0:
         return K
+    total = _finish_prediction(lm, K, nearest, g)
     for i in range(m):
-        y[i] = q[i] - g[i]  # the error e, kept in y
-    scale = eta * w / total
-    for k in range(K):
-        c = scale * act[k]
-        for i in range(m):
-            ce = c * y[i]
-            O[k, i] += ce
-            for j in range(n):
-                W[k, i, j] += ce * ((x[j] - P[k, j]) * inv)
+        e[i] = q[i] - g[i]  # the error e, kept in y
+    descend(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, eta * w / total, e, lm.outputs)
     return K
 
 
