@@ -26,6 +26,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/body/chain.py",
     "learn/body/components.py",
     "learn/body/joints.py",
+    "learn/body/planar.py",
     "learn/body/task.py",
     "learn/component_metrics.py",
     "learn/exploration.py",

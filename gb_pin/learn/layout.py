@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin.learn.body.chain import Body
+from gb_pin.learn.body.chain import Body, PlanarBody
 from gb_pin.learn.goals.base import GoalArrays
 from gb_pin.learn.llm_kernels import MapArrays, Scratch
 
@@ -85,7 +85,7 @@ class Robot(NamedTuple):
     """What is learnt about: limits and the compiled forward kinematics."""
 
     limits: Limits
-    body: Body
+    body: Body | PlanarBody
 
 
 class Motion(NamedTuple):
