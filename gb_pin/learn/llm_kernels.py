@@ -162,7 +162,7 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     total = _finish_prediction(lm, K, nearest, g)
     for i in range(m):
         e[i] = q[i] - g[i]  # the error e, kept in y
-    descend(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, eta * w / total, e, lm.outputs)
+    descend(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, eta * w / total, e)
     return K
 
 

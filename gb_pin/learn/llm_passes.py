@@ -162,7 +162,7 @@ def row_sums(Y, K, total, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def descend(W, O, U, act, K, scale, e, Y):  # type: ignore[no-untyped-def]
+def descend(W, O, U, act, K, scale, e):  # type: ignore[no-untyped-def]
     """The gradient step o_k += c_k e, W_k += c_k e u_k^T with c_k = scale b_k (``act`` becomes c).
 
     Args:
@@ -173,19 +173,17 @@ def descend(W, O, U, act, K, scale, e, Y):  # type: ignore[no-untyped-def]
         K: prototypes in use.
         scale: eta w / sum_k b_k.
         e: (m,) the error q - g(x).
-        Y: (m, capacity) scratch.
     """
     m, n = W.shape[0], W.shape[1]
     for k in range(K):
         act[k] = scale * act[k]
-    # One row at a time, each loop over k touching two or three rows: a loop that wrote all of
-    # W_i's rows at once would need more run-time overlap checks than LLVM vectorises with.
+    # One row at a time, each loop over k writing one row: a loop that wrote all of W_i's rows
+    # at once would need more run-time overlap checks than LLVM vectorises with. c_k e_i is
+    # recomputed per row (one product) rather than stored and read back.
     for i in range(m):
         ei = e[i]
         for k in range(K):
-            ce = act[k] * ei
-            O[i, k] += ce
-            Y[i, k] = ce
+            O[i, k] += act[k] * ei
         for j in range(n):
             for k in range(K):
-                W[i, j, k] += Y[i, k] * U[j, k]
+                W[i, j, k] += (act[k] * ei) * U[j, k]
