@@ -83,10 +83,9 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _finish_prediction(lm, K, nearest, out):  # type: ignore[no-untyped-def]
     """g into ``out`` from the scaled inputs and squared norms in ``lm``; returns the sum of activations."""
-    total = activations(lm.act, K, nearest)
+    activations(lm.act, K, nearest)
     weighted_outputs(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, lm.outputs)
-    row_sums(lm.outputs, K, total, out)
-    return total
+    return row_sums(lm.outputs, lm.act, K, out)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -93,13 +93,9 @@ def smallest(v, K):  # type: ignore[no-untyped-def]
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def activations(sq, K, shift):  # type: ignore[no-untyped-def]
-    """b_k = exp(-(||u_k||^2 - shift)) in place of ``sq``; returns sum_k b_k (k in order)."""
-    total = 0.0
+    """b_k = exp(-(||u_k||^2 - shift)) in place of ``sq`` (their sum: :func:`row_sums`)."""
     for k in range(K):
-        a = math.exp(shift - sq[k])
-        sq[k] = a
-        total += a
-    return total
+        sq[k] = math.exp(shift - sq[k])
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -137,8 +133,12 @@ def weighted_outputs(W, O, U, act, K, Y):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def row_sums(Y, K, total, out):  # type: ignore[no-untyped-def]
-    """out[i] = (sum_k Y[i, k]) / total, k = 0, 1, ... in order: four rows at a time, each its own chain."""
+def row_sums(Y, act, K, out):  # type: ignore[no-untyped-def]
+    """total = sum_k act[k] and out[i] = (sum_k Y[i, k]) / total; returns total.
+
+    Every sum runs k = 0, 1, ... in order, a chain of dependent additions; the chains run side by
+    side, four at a time (rows in fours, the last one to three rows with the activations' sum).
+    """
     m = out.shape[0]
     i = 0
     while i + 4 <= m:
@@ -148,17 +148,34 @@ def row_sums(Y, K, total, out):  # type: ignore[no-untyped-def]
             s1 += Y[i + 1, k]
             s2 += Y[i + 2, k]
             s3 += Y[i + 3, k]
-        out[i] = s0 / total
-        out[i + 1] = s1 / total
-        out[i + 2] = s2 / total
-        out[i + 3] = s3 / total
+        out[i], out[i + 1], out[i + 2], out[i + 3] = s0, s1, s2, s3
         i += 4
-    while i < m:
-        s0 = 0.0
+    total = s0 = s1 = s2 = 0.0
+    left = m - i
+    if left == 3:
         for k in range(K):
+            total += act[k]
             s0 += Y[i, k]
-        out[i] = s0 / total
-        i += 1
+            s1 += Y[i + 1, k]
+            s2 += Y[i + 2, k]
+        out[i], out[i + 1], out[i + 2] = s0, s1, s2
+    elif left == 2:
+        for k in range(K):
+            total += act[k]
+            s0 += Y[i, k]
+            s1 += Y[i + 1, k]
+        out[i], out[i + 1] = s0, s1
+    elif left == 1:
+        for k in range(K):
+            total += act[k]
+            s0 += Y[i, k]
+        out[i] = s0
+    else:
+        for k in range(K):
+            total += act[k]
+    for i in range(m):
+        out[i] /= total
+    return total
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
