@@ -33,7 +33,6 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/goals/draw.py",
     "learn/goals/kernel.py",
     "learn/llm_kernels.py",
-    "learn/llm_passes.py",
     "learn/loop.py",
     "learn/metrics.py",
     "learn/session_kernels.py",

@@ -76,9 +76,11 @@ class LocalLinearMap:
 
     def _allocate_scratch(self) -> None:
         m, n, capacity = self._W.shape
-        self._act = np.empty(capacity)
         self._U = np.empty((n, capacity))
-        self._Y = np.empty((m, capacity))
+        # The weighted outputs, the activations (row m), zeros up to a multiple of four rows: what
+        # llm_predict sums four rows at a time.
+        self._Y = np.zeros((4 * (m // 4 + 1), capacity))
+        self._act = self._Y[m]
         self._g = np.empty(m)
         self._y = np.empty(m)
         self._J = np.empty((m, n))

@@ -12,28 +12,33 @@ Conventions (the paper is silent; these reproduce its numbers):
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
 The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
-matrices and offsets stored entry-major, contiguous over the prototypes (:mod:`gb_pin.learn.llm_passes`);
-:class:`Scratch` buffers): no allocation per step.
+matrices and offsets stored entry-major, contiguous over the prototypes; :class:`Scratch`
+buffers): no allocation per step. With hundreds of prototypes a step is three passes over all of
+them (g at the target; g and the update at the reached position); storing entry (i, j) of every
+W_k as one contiguous row ``W[i, j, :K]`` makes every loop that treats the prototypes
+independently a loop over contiguous rows, which LLVM turns into SIMD code. Sums over j and over
+k keep their order, and the minimum is exact in any order: the numbers are those of plain
+per-prototype loops (tests/test_llm_passes.py checks it bit for bit).
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
-from gb_pin.learn.llm_passes import activations, descend, row_sums, scaled_inputs, weighted_outputs
 
 
 class MapArrays(NamedTuple):
     """A local-linear map's storage, as the compiled kernels take it (what a prediction reads).
 
-    Prototype k's numbers are stored entry-major, contiguous over k, so that the passes over
-    the prototypes vectorise (:mod:`gb_pin.learn.llm_passes`); :class:`~gb_pin.learn.llm.LocalLinearMap`
-    converts to and from the (K, m, n) layout of its attributes and files.
+    Prototype k's numbers are stored entry-major, contiguous over k, so that the loops over the
+    prototypes vectorise; :class:`~gb_pin.learn.llm.LocalLinearMap` converts to and from the
+    (K, m, n) layout of its attributes and files.
 
     Attributes:
         prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
@@ -41,9 +46,10 @@ class MapArrays(NamedTuple):
             (W_k acts on (x - p_k) / d).
         offset_entries: (m, capacity) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
         radius: d [m].
-        act: (capacity,) scratch: the activations of the last prediction.
+        act: (capacity,) scratch: the activations of the last prediction (row m of ``outputs``).
         inputs: (n, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
-        outputs: (m, capacity) scratch: the weighted local outputs of the last prediction.
+        outputs: (m', capacity) scratch, m' >= m + 1 a multiple of four: the weighted local outputs
+            of the last prediction, then the activations, then rows of zeros.
     """
 
     prototypes: NDArray[np.float64]
@@ -73,19 +79,81 @@ class Scratch(NamedTuple):
 def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
-    ``lm.act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)) and
-    ``lm.inputs`` the scaled inputs u_k.
+    ``lm.inputs`` receives the scaled inputs u_k, ``lm.act`` the shifted activations
+    exp(-(||u_k||^2 - min)), ``lm.outputs`` the weighted local outputs. Every loop over the
+    prototypes that treats them independently runs on contiguous rows (SIMD code); the sums over
+    them run in order k = 0, 1, ..., four rows side by side. (One function body: numba compiles
+    inlined helpers much more slowly, and calls cost more than these loops at small K.)
     """
-    nearest = scaled_inputs(x, lm.prototypes, 1.0 / lm.radius, K, lm.inputs, lm.act)
-    return _finish_prediction(lm, K, nearest, out), nearest
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _finish_prediction(lm, K, nearest, out):  # type: ignore[no-untyped-def]
-    """g into ``out`` from the scaled inputs and squared norms in ``lm``; returns the sum of activations."""
-    activations(lm.act, K, nearest)
-    weighted_outputs(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, lm.outputs)
-    return row_sums(lm.outputs, lm.act, K, out)
+    P, W, O, U, Y, sq = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
+    inv = 1.0 / lm.radius
+    n = x.shape[0]
+    m = out.shape[0]
+    # u_k and ||u_k||^2 (sum over j in order).
+    for k in range(K):
+        sq[k] = 0.0
+    for j in range(n):
+        xj = x[j]
+        for k in range(K):
+            u = (xj - P[k, j]) * inv
+            U[j, k] = u
+            sq[k] += u * u
+    # min_k ||u_k||^2 in four lanes (exact in any order; NaNs skipped).
+    s0 = s1 = s2 = s3 = np.inf
+    k = 0
+    while k + 4 <= K:
+        a, b, c, d = sq[k], sq[k + 1], sq[k + 2], sq[k + 3]
+        s0 = a if a < s0 else s0
+        s1 = b if b < s1 else s1
+        s2 = c if c < s2 else s2
+        s3 = d if d < s3 else s3
+        k += 4
+    while k < K:
+        a = sq[k]
+        s0 = a if a < s0 else s0
+        k += 1
+    s0 = s1 if s1 < s0 else s0
+    s2 = s3 if s3 < s2 else s2
+    nearest = s2 if s2 < s0 else s0
+    # The activations b_k (row m of Y), then Y[i, k] = b_k (W_k u_k + o_k)_i; fused for n = 2, 3.
+    for k in range(K):
+        sq[k] = math.exp(nearest - sq[k])
+    if n == 2:
+        for i in range(m):
+            for k in range(K):
+                y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k]
+                Y[i, k] = sq[k] * y
+    elif n == 3:
+        for i in range(m):
+            for k in range(K):
+                y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k] + W[i, 2, k] * U[2, k]
+                Y[i, k] = sq[k] * y
+    else:
+        for i in range(m):
+            for k in range(K):
+                Y[i, k] = O[i, k]
+            for j in range(n):
+                for k in range(K):
+                    Y[i, k] += W[i, j, k] * U[j, k]
+            for k in range(K):
+                Y[i, k] *= sq[k]
+    # Row sums, four chains side by side; row m is the activations' sum (rows past it are zero).
+    total = 0.0
+    for i in range(0, Y.shape[0], 4):
+        s0 = s1 = s2 = s3 = 0.0
+        for k in range(K):
+            s0 += Y[i, k]
+            s1 += Y[i + 1, k]
+            s2 += Y[i + 2, k]
+            s3 += Y[i + 3, k]
+        for r, v in enumerate((s0, s1, s2, s3)):
+            if i + r < m:
+                out[i + r] = v
+            elif i + r == m:
+                total = v
+    for i in range(m):
+        out[i] /= total
+    return total, nearest
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -147,21 +215,31 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     Inserts a prototype first if ``x`` is at distance >= d from all prototypes,
     then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
     o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
-    With w = 0 only the distances are computed (whether to insert).
     """
     g, e = scratch.g, scratch.y
     m = q.shape[0]
-    inv = 1.0 / lm.radius
-    nearest = scaled_inputs(x, lm.prototypes, inv, K, lm.inputs, lm.act)
+    total, nearest = llm_predict(x, lm, K, g)
     if nearest >= 1.0:
         K = llm_insert(x, lm, K, scratch)
-        nearest = scaled_inputs(x, lm.prototypes, inv, K, lm.inputs, lm.act)
+        total, nearest = llm_predict(x, lm, K, g)
     if w == 0.0:
         return K
-    total = _finish_prediction(lm, K, nearest, g)
     for i in range(m):
         e[i] = q[i] - g[i]  # the error e, kept in y
-    descend(lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act, K, eta * w / total, e)
+    W, O, U, c = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
+    n = x.shape[0]
+    scale = eta * w / total
+    for k in range(K):
+        c[k] = scale * c[k]  # c_k = eta w beta_k (the activations are not needed any more)
+    # Row by row, each loop writing one row (more rows per loop would need more run-time
+    # overlap checks than LLVM vectorises with); c_k e_i is recomputed per row.
+    for i in range(m):
+        ei = e[i]
+        for k in range(K):
+            O[i, k] += c[k] * ei
+        for j in range(n):
+            for k in range(K):
+                W[i, j, k] += (c[k] * ei) * U[j, k]
     return K
 
 

@@ -1,11 +1,11 @@
-"""Tests of gb_pin.learn.llm_passes: the map's vectorised passes compute what per-prototype loops compute.
+"""Tests of gb_pin.learn.llm_kernels: the entry-major, vectorised kernels compute what per-prototype loops do.
 
-The passes store the map entry-major and treat the task dimensions 2 and 3 with fused loops, other
-n with a loop per coordinate; each must give, bit for bit, the numbers of the plain per-prototype
-loops of Sec. II-C written below in pure Python (IEEE doubles, the same libm exp, sums over j and
-over k in order). That is what keeps every learned map identical to the earlier layout's
-(tests/test_fingerprint.py); here it is checked for every branch (n = 1..6), for prototype counts
-around the four-lane boundaries of the minimum and the row sums, and for m below and above four.
+The kernels store the map entry-major and treat the task dimensions 2 and 3 with fused loops,
+other n with a loop per coordinate; each must give, bit for bit, the numbers of the plain
+per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the same libm exp,
+sums over j and over k in order): the layout changes no number (and so no fingerprint). Here it
+is checked for every branch (n = 1..6), for prototype counts around the four-lane boundaries of
+the minimum and the row sums, and for m below, at and above four.
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ class LoopMap:
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6])
-@pytest.mark.parametrize("m", [1, 3, 7])
+@pytest.mark.parametrize("m", [1, 3, 4, 7])
 def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int) -> None:
     """partial_fit (insertions, zero weights included) and predict give the loops' numbers exactly."""
     rng = np.random.default_rng(10 * n + m)
