@@ -4,7 +4,9 @@ On a noisy machine only an alternating comparison is fair. One long-lived worker
 tree (each with its own, warm, numba cache) times the compiled loop alone (``BabbleState.run``,
 with E^X recorded only at the end, and on the default schedule), and the two workers are asked in
 turn, many times, so that drifts of the machine's load hit both alike. Prints the median us/step
-per robot and the ratio new/old, and checks that both trees compute the same final E^X.
+per robot and the ratio new/old, and checks that both trees compute the same final E^X. The
+clock is the worker thread's CPU time (``--clock wall`` for the wall clock): on a shared machine
+the wall clock also counts the time other processes hold the core.
 
     python scripts/bench_versions.py --old /path/to/old/tree --rounds 15
 
@@ -89,14 +91,15 @@ for line in sys.stdin:
         arrays, rng_state, before, start_k = learn(req, target, config)
         st = BabbleState.from_arrays(arrays, config, rng_state, goals=req.get("goals"))
     steps = st.steps
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.thread_time()
     st.run(before + movements)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
     if req.get("learn") is None:
         check = float(st.errors[-1])
     else:
         check = float(np.sum(st.llm.predict(st.targets, warn=False)))
-    out = {"file": source, "us": 1e6 * wall / (st.steps - steps), "check": check,
+    seconds = cpu if req["clock"] == "cpu" else wall
+    out = {"file": source, "us": 1e6 * seconds / (st.steps - steps), "check": check,
            "prototypes": [int(start_k), int(st.llm.n_prototypes_)], "learned": int(before)}
     print(json.dumps(out), flush=True)
 """
@@ -136,7 +139,7 @@ class Worker:
 
 def cases(args: argparse.Namespace) -> list[dict[str, Any]]:
     """One request template per row of the table."""
-    common = {"radius": args.radius, "preset_learner": args.preset_learner}
+    common = {"radius": args.radius, "preset_learner": args.preset_learner, "clock": args.clock}
     out = []
     for robot in args.robots.split(","):
         for goals in args.goals.split(",") if args.goals else [None]:
@@ -164,6 +167,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--preset-learner", action="store_true", help="use the presets' [learner] defaults")
     parser.add_argument("--learned", type=int, default=0, help="learn this many movements first (not timed)")
     parser.add_argument("--until-prototypes", default="", help="learn until K prototypes first: K1,K2,...")
+    parser.add_argument(
+        "--clock",
+        choices=("cpu", "wall"),
+        default="cpu",
+        help="time the worker's thread CPU time (default: what a quiet machine's wall clock "
+        "would show, without the time other processes hold the core) or the wall clock",
+    )
     args = parser.parse_args(argv)
     workers = {"old": Worker(args.old.resolve()), "new": Worker(args.new.resolve())}
     todo = cases(args)
@@ -191,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
     for w in workers.values():
         w.close()
     what = "continuing a learned run" if continued else "compiled loop only"
-    print(f"{args.rounds} alternating rounds of {args.movements} movements per case ({what})")
+    print(f"{args.rounds} alternating rounds of {args.movements} movements per case ({what}; {args.clock})")
     if continued:
         print(
             "| robot | goals | learned movements | prototypes (old) | prototypes (new) | old us/step "
