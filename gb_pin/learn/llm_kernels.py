@@ -42,13 +42,13 @@ class MapArrays(NamedTuple):
 
     Attributes:
         prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
-        matrix_entries: (m, n, capacity) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
-            (W_k acts on (x - p_k) / d).
-        offset_entries: (m, capacity) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
+        matrix_entries: (m, n, row) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
+            (W_k acts on (x - p_k) / d); row >= capacity (rows padded against cache conflicts).
+        offset_entries: (m, row) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
         radius: d [m].
-        act: (capacity,) scratch: the activations of the last prediction (row m of ``outputs``).
-        inputs: (n, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
-        outputs: (m', capacity) scratch, m' >= m + 1 a multiple of four: the weighted local outputs
+        act: (row,) scratch: the activations of the last prediction (row m of ``outputs``).
+        inputs: (n, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
+        outputs: (m', row) scratch, m' >= m + 1 a multiple of four: the weighted local outputs
             of the last prediction, then the activations, then rows of zeros.
     """
 
