@@ -13,9 +13,9 @@ the wall clock also counts the time other processes hold the core.
 Continuing a learned run (the cost per step of a large map): ``--learned 10000`` learns 10^4
 movements first (not timed, once per worker), then times ``--movements`` more from that state
 in every round; ``--until-prototypes 50,100,300,800`` learns until the map has that many
-prototypes instead (one row each); ``--goals uniform,directions`` (one row each) and ``--radius``
-/ ``--preset-learner`` choose the run. The check is then that both trees end with the same
-predictions.
+prototypes instead (one row each; at most ``--learn-limit`` movements); ``--goals
+uniform,directions`` and ``--radius 0.1,0.05`` (one row each) and ``--preset-learner`` choose the
+run. The check is then that both trees end with the same predictions.
 
     python scripts/bench_versions.py --old ../old --robots panda --preset-learner \
         --goals uniform,directions --learned 10000 --movements 1000
@@ -27,6 +27,7 @@ is ``gb_pin.learn.state.BabbleState`` or, for 0.1, ``gb_pin.babbling.BabbleState
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import statistics
@@ -70,8 +71,8 @@ def learn(req, target, config):
         kind, value = req["learn"]
         if kind == "movements":
             st.run(value)
-        else:
-            while st.llm.n_prototypes_ < value:
+        else:  # until K prototypes, or until the movement limit (uniform goals stop growing the map)
+            while st.llm.n_prototypes_ < value and st.movements < req["learn_limit"]:
                 st.run(st.movements + 20)
         learned[key] = (st.to_arrays(), st.rng_state(), st.movements, st.llm.n_prototypes_)
     return learned[key]
@@ -138,19 +139,19 @@ class Worker:
 
 
 def cases(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """One request template per row of the table."""
-    common = {"radius": args.radius, "preset_learner": args.preset_learner, "clock": args.clock}
+    """One request template per row of the table: robots x goal generators x radii (x prototype counts)."""
+    common = {"preset_learner": args.preset_learner, "clock": args.clock, "learn_limit": args.learn_limit}
+    goals = args.goals.split(",") if args.goals else [None]
+    radii = [float(r) for r in args.radius.split(",")] if args.radius else [None]
     out = []
-    for robot in args.robots.split(","):
-        for goals in args.goals.split(",") if args.goals else [None]:
-            case = {"robot": robot, "goals": goals, **common}
-            if args.until_prototypes:
-                for k in args.until_prototypes.split(","):
-                    out.append({**case, "learn": ["prototypes", int(k)]})
-            elif args.learned:
-                out.append({**case, "learn": ["movements", args.learned]})
-            else:
-                out.append({**case, "learn": None})
+    for robot, goal, radius in itertools.product(args.robots.split(","), goals, radii):
+        case = {"robot": robot, "goals": goal, "radius": radius, **common}
+        if args.until_prototypes:
+            out += [{**case, "learn": ["prototypes", int(k)]} for k in args.until_prototypes.split(",")]
+        elif args.learned:
+            out.append({**case, "learn": ["movements", args.learned]})
+        else:
+            out.append({**case, "learn": None})
     return out
 
 
@@ -163,10 +164,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--movements", type=int, default=2000)
     parser.add_argument("--rounds", type=int, default=15)
     parser.add_argument("--goals", default=None, help="goal generators, one row each: uniform,directions,...")
-    parser.add_argument("--radius", type=float, default=None, help="prototype radius d [m]")
+    parser.add_argument("--radius", default=None, help="prototype radii d [m], one row each: 0.1,0.05")
     parser.add_argument("--preset-learner", action="store_true", help="use the presets' [learner] defaults")
     parser.add_argument("--learned", type=int, default=0, help="learn this many movements first (not timed)")
     parser.add_argument("--until-prototypes", default="", help="learn until K prototypes first: K1,K2,...")
+    parser.add_argument("--learn-limit", type=int, default=100_000, help="--until-prototypes: at most this")
     parser.add_argument(
         "--clock",
         choices=("cpu", "wall"),
@@ -204,10 +206,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{args.rounds} alternating rounds of {args.movements} movements per case ({what}; {args.clock})")
     if continued:
         print(
-            "| robot | goals | learned movements | prototypes (old) | prototypes (new) | old us/step "
+            "| robot | goals | d [m] | learned movements | prototypes (old) | prototypes (new) | old us/step "
             "| new us/step | new/old |"
         )
-        print("|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|")
     else:
         print("| robot | old us/step | new us/step | new/old | old (eval) | new (eval) | new/old (eval) |")
         print("|---|---|---|---|---|---|---|")
@@ -218,7 +220,8 @@ def main(argv: list[str] | None = None) -> int:
             o, n = info[c]["old"], info[c]["new"]
             k_old, k_new = ("-".join(map(str, out["prototypes"])) for out in (o, n))
             print(
-                f"| {case['robot']} | {case['goals'] or 'uniform'} | {n['learned']} | {k_old} | {k_new} "
+                f"| {case['robot']} | {case['goals'] or 'uniform'} | {case['radius'] or 'preset'} "
+                f"| {n['learned']} | {k_old} | {k_new} "
                 f"| {med['old', False]:.2f} | {med['new', False]:.2f} | {ratio:.3f} |"
             )
         else:
