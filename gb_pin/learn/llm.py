@@ -87,9 +87,9 @@ class LocalLinearMap:
     def _allocate_scratch(self) -> None:
         m, n, row = self._W.shape
         self._U = np.empty((n, row))
-        # The weighted outputs, the activations (row m), zeros up to a multiple of four rows: what
-        # llm_predict sums four rows at a time.
-        self._Y = np.zeros((4 * (m // 4 + 1), row))
+        # The weighted outputs, the activations (row m), the squared distances (row m + 1), zeros up
+        # to a multiple of four rows past m: llm_predict sums rows 0..m four at a time.
+        self._Y = np.zeros((4 * ((m + 1) // 4 + 1), row))
         self._act = self._Y[m]
         self._g = np.empty(m)
         self._y = np.empty(m)

@@ -48,8 +48,9 @@ class MapArrays(NamedTuple):
         radius: d [m].
         act: (row,) scratch: the activations of the last prediction (row m of ``outputs``).
         inputs: (n, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
-        outputs: (m', row) scratch, m' >= m + 1 a multiple of four: the weighted local outputs
-            of the last prediction, then the activations, then rows of zeros.
+        outputs: (m', row) scratch, m' >= m + 2 a multiple of four: the weighted local outputs
+            of the last prediction (rows 0..m-1), the activations (row m), the squared norms
+            ||u_k||^2 (row m + 1), zeros.
     """
 
     prototypes: NDArray[np.float64]
@@ -85,31 +86,20 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     them run in order k = 0, 1, ..., four rows side by side. (One function body: numba compiles
     inlined helpers much more slowly, and calls cost more than these loops at small K.)
     """
-    P, W, O, U, Y, sq = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
+    P, W, O, U, Y, act = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
     inv = 1.0 / lm.radius
     n = x.shape[0]
     m = out.shape[0]
-    # u_k and ||u_k||^2 (sum over j in order: 0 + u_0^2 + u_1^2 + ...); one loop for n = 3 (3-D
-    # positions: measured faster at hundreds of prototypes; for n = 2 the loop per coordinate is).
-    if n == 3:
-        x0, x1, x2 = x[0], x[1], x[2]
+    sq = Y[m + 1]  # scratch row: ||u_k||^2
+    # u_k and ||u_k||^2 (sum over j in order).
+    for k in range(K):
+        sq[k] = 0.0
+    for j in range(n):
+        xj = x[j]
         for k in range(K):
-            u0 = (x0 - P[k, 0]) * inv
-            u1 = (x1 - P[k, 1]) * inv
-            u2 = (x2 - P[k, 2]) * inv
-            U[0, k] = u0
-            U[1, k] = u1
-            U[2, k] = u2
-            sq[k] = u0 * u0 + u1 * u1 + u2 * u2
-    else:
-        for k in range(K):
-            sq[k] = 0.0
-        for j in range(n):
-            xj = x[j]
-            for k in range(K):
-                u = (xj - P[k, j]) * inv
-                U[j, k] = u
-                sq[k] += u * u
+            u = (xj - P[k, j]) * inv
+            U[j, k] = u
+            sq[k] += u * u
     # min_k ||u_k||^2 in four lanes (exact in any order; NaNs skipped).
     s0 = s1 = s2 = s3 = np.inf
     k = 0
@@ -127,19 +117,20 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
-    # The activations b_k (row m of Y), then Y[i, k] = b_k (W_k u_k + o_k)_i; fused for n = 2, 3.
+    # The activations b_k = exp(nearest - ||u_k||^2) into row m of Y.
     for k in range(K):
-        sq[k] = math.exp(nearest - sq[k])
+        act[k] = math.exp(nearest - sq[k])
+    # Y[i, k] = b_k (W_k u_k + o_k)_i; fused for n = 2 and 3.
     if n == 2:
         for i in range(m):
             for k in range(K):
                 y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k]
-                Y[i, k] = sq[k] * y
+                Y[i, k] = act[k] * y
     elif n == 3:
         for i in range(m):
             for k in range(K):
                 y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k] + W[i, 2, k] * U[2, k]
-                Y[i, k] = sq[k] * y
+                Y[i, k] = act[k] * y
     else:
         for i in range(m):
             for k in range(K):
@@ -148,10 +139,11 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
                 for k in range(K):
                     Y[i, k] += W[i, j, k] * U[j, k]
             for k in range(K):
-                Y[i, k] *= sq[k]
-    # Row sums, four chains side by side; row m is the activations' sum (rows past it are zero).
+                Y[i, k] *= act[k]
+    # Row sums, four chains side by side, rows 0..m (row m: the activations' sum; rows after it in
+    # the last block are scratch, summed and dropped).
     total = 0.0
-    for i in range(0, Y.shape[0], 4):
+    for i in range(0, m + 1, 4):
         s0 = s1 = s2 = s3 = 0.0
         for k in range(K):
             s0 += Y[i, k]
@@ -175,12 +167,17 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
     J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
     """
+    total, _ = llm_predict(x, lm, K, scratch.g)
+    _jacobian_of_prediction(lm, K, total, scratch)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-def]
+    """dg/dx into ``scratch.J`` from the last prediction (u_k, activations, their sum, g in ``scratch.g``)."""
     W, O, U, act = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
     g, y, J = scratch
-    n = x.shape[0]
-    m = g.shape[0]
+    m, n = J.shape
     inv = 1.0 / lm.radius
-    total, _ = llm_predict(x, lm, K, g)
     for i in range(m):
         for j in range(n):
             J[i, j] = 0.0
@@ -201,14 +198,16 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def llm_insert(x, lm, K, scratch):  # type: ignore[no-untyped-def]
+def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 
-    The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
+    ``total`` and ``scratch.g``: the sum of activations and g(x) of the last prediction, which was
+    at ``x`` with these K prototypes. The caller guarantees capacity (P.shape[0] > K). Returns the
+    new count K + 1.
     """
     P, W, O, radius = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.radius
     g, J = scratch.g, scratch.J
-    llm_jacobian(x, lm, K, scratch)
+    _jacobian_of_prediction(lm, K, total, scratch)
     n = x.shape[0]
     m = g.shape[0]
     for j in range(n):
@@ -232,26 +231,25 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     m = q.shape[0]
     total, nearest = llm_predict(x, lm, K, g)
     if nearest >= 1.0:
-        K = llm_insert(x, lm, K, scratch)
+        K = llm_insert(x, lm, K, total, scratch)
         total, nearest = llm_predict(x, lm, K, g)
     if w == 0.0:
         return K
     for i in range(m):
         e[i] = q[i] - g[i]  # the error e, kept in y
-    W, O, U, c = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
+    W, O, U, b = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
     n = x.shape[0]
     scale = eta * w / total
-    for k in range(K):
-        c[k] = scale * c[k]  # c_k = eta w beta_k (the activations are not needed any more)
-    # Row by row, each loop writing one row (more rows per loop would need more run-time
-    # overlap checks than LLVM vectorises with); c_k e_i is recomputed per row.
+    # Row by row, each loop writing one row (more rows per loop would need more run-time overlap
+    # checks than LLVM vectorises with); c_k = eta w beta_k = scale b_k and c_k e_i are recomputed
+    # where used (a product each) rather than stored and read back.
     for i in range(m):
         ei = e[i]
         for k in range(K):
-            O[i, k] += c[k] * ei
+            O[i, k] += (scale * b[k]) * ei
         for j in range(n):
             for k in range(K):
-                W[i, j, k] += (c[k] * ei) * U[j, k]
+                W[i, j, k] += ((scale * b[k]) * ei) * U[j, k]
     return K
 
 
