@@ -86,11 +86,11 @@ class LocalLinearMap:
 
     def _allocate_scratch(self) -> None:
         m, n, row = self._W.shape
-        self._U = np.empty((n, row))
-        # The weighted outputs, the activations (row m), the squared distances (row m + 1), zeros up
-        # to a multiple of four rows past m: llm_predict sums rows 0..m four at a time.
-        self._Y = np.zeros((4 * ((m + 1) // 4 + 1), row))
-        self._act = self._Y[m]
+        self._U = np.empty((n + 1, row))
+        # The local outputs, ones (row m), zeros up to a multiple of four rows.
+        self._Y = np.zeros((4 * (m // 4 + 1), row))
+        self._Y[m] = 1.0
+        self._act = np.empty(row)
         self._g = np.empty(m)
         self._y = np.empty(m)
         self._J = np.empty((m, n))

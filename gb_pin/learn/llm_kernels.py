@@ -46,11 +46,11 @@ class MapArrays(NamedTuple):
             (W_k acts on (x - p_k) / d); row >= capacity (rows padded against cache conflicts).
         offset_entries: (m, row) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
         radius: d [m].
-        act: (row,) scratch: the activations of the last prediction (row m of ``outputs``).
-        inputs: (n, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction.
-        outputs: (m', row) scratch, m' >= m + 2 a multiple of four: the weighted local outputs
-            of the last prediction (rows 0..m-1), the activations (row m), the squared norms
-            ||u_k||^2 (row m + 1), zeros.
+        act: (row,) scratch: the activations of the last prediction.
+        inputs: (n + 1, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction
+            (rows 0..n-1), then ||u_k||^2.
+        outputs: (m', row), m' >= m + 1 a multiple of four: the local outputs W_k u_k + o_k of the
+            last prediction (rows 0..m-1, scratch), a row of ones, rows of zeros (constant).
     """
 
     prototypes: NDArray[np.float64]
@@ -81,7 +81,7 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
     ``lm.inputs`` receives the scaled inputs u_k, ``lm.act`` the shifted activations
-    exp(-(||u_k||^2 - min)), ``lm.outputs`` the weighted local outputs. Every loop over the
+    exp(-(||u_k||^2 - min)), ``lm.outputs`` the local outputs. Every loop over the
     prototypes that treats them independently runs on contiguous rows (SIMD code); the sums over
     them run in order k = 0, 1, ..., four rows side by side. (One function body: numba compiles
     inlined helpers much more slowly, and calls cost more than these loops at small K.)
@@ -90,7 +90,7 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     inv = 1.0 / lm.radius
     n = x.shape[0]
     m = out.shape[0]
-    sq = Y[m + 1]  # scratch row: ||u_k||^2
+    sq = U[n]  # scratch row: ||u_k||^2
     # u_k and ||u_k||^2 (sum over j in order).
     for k in range(K):
         sq[k] = 0.0
@@ -117,39 +117,27 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
-    # The activations b_k = exp(nearest - ||u_k||^2) into row m of Y.
+    # The activations b_k = exp(nearest - ||u_k||^2).
     for k in range(K):
         act[k] = math.exp(nearest - sq[k])
-    # Y[i, k] = b_k (W_k u_k + o_k)_i; fused for n = 2 and 3.
-    if n == 2:
-        for i in range(m):
+    # Y[i, k] = (W_k u_k + o_k)_i, sum over j in order (row m: ones, so that the row sums give sum_k b_k).
+    for i in range(m):
+        for k in range(K):
+            Y[i, k] = O[i, k] + W[i, 0, k] * U[0, k]
+        for j in range(1, n):
             for k in range(K):
-                y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k]
-                Y[i, k] = act[k] * y
-    elif n == 3:
-        for i in range(m):
-            for k in range(K):
-                y = O[i, k] + W[i, 0, k] * U[0, k] + W[i, 1, k] * U[1, k] + W[i, 2, k] * U[2, k]
-                Y[i, k] = act[k] * y
-    else:
-        for i in range(m):
-            for k in range(K):
-                Y[i, k] = O[i, k]
-            for j in range(n):
-                for k in range(K):
-                    Y[i, k] += W[i, j, k] * U[j, k]
-            for k in range(K):
-                Y[i, k] *= act[k]
-    # Row sums, four chains side by side, rows 0..m (row m: the activations' sum; rows after it in
-    # the last block are scratch, summed and dropped).
+                Y[i, k] += W[i, j, k] * U[j, k]
+    # Row sums of b_k Y[i, k], four chains side by side, rows 0..m (rows after m in the last block:
+    # zeros, summed and dropped).
     total = 0.0
     for i in range(0, m + 1, 4):
         s0 = s1 = s2 = s3 = 0.0
         for k in range(K):
-            s0 += Y[i, k]
-            s1 += Y[i + 1, k]
-            s2 += Y[i + 2, k]
-            s3 += Y[i + 3, k]
+            b = act[k]
+            s0 += b * Y[i, k]
+            s1 += b * Y[i + 1, k]
+            s2 += b * Y[i + 2, k]
+            s3 += b * Y[i + 3, k]
         for r, v in enumerate((s0, s1, s2, s3)):
             if i + r < m:
                 out[i + r] = v
