@@ -36,6 +36,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/loop.py",
     "learn/metrics.py",
     "learn/session_kernels.py",
+    "learn/vector_math.py",
     "learn/weighting.py",
     "robot/reachability.py",
 )

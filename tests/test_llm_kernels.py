@@ -2,8 +2,8 @@
 
 The kernels store the map entry-major and treat the task dimensions 2 and 3 with fused loops,
 other n with a loop per coordinate; each must give, bit for bit, the numbers of the plain
-per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the same libm exp,
-sums over j and over k in order): the layout changes no number (and so no fingerprint). Here it
+per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the map's exp,
+sums over j and over k in order): the layout changes no number. Here it
 is checked for every branch (n = 1..6), for prototype counts around the four-lane boundaries of
 the minimum and the row sums, and for m below, at and above four.
 """
@@ -16,6 +16,12 @@ import numpy as np
 import pytest
 
 from gb_pin import LocalLinearMap
+from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
+
+
+def exp(x: float) -> float:
+    """The map's exponential: vexp within its range, the C library's outside (llm_kernels.llm_predict)."""
+    return float(vexp(x)) if -VEXP_LIMIT <= x <= VEXP_LIMIT else math.exp(x)
 
 
 class LoopMap:
@@ -39,7 +45,7 @@ class LoopMap:
         smallest = min(sq)
         act, total, out = [], 0.0, [0.0] * m
         for k in range(K):
-            a = math.exp(smallest - sq[k])
+            a = exp(smallest - sq[k])
             act.append(a)
             total += a
             for i in range(m):

@@ -16,9 +16,10 @@ matrices and offsets stored entry-major, contiguous over the prototypes; :class:
 buffers): no allocation per step. With hundreds of prototypes a step is three passes over all of
 them (g at the target; g and the update at the reached position); storing entry (i, j) of every
 W_k as one contiguous row ``W[i, j, :K]`` makes every loop that treats the prototypes
-independently a loop over contiguous rows, which LLVM turns into SIMD code. Sums over j and over
-k keep their order, and the minimum is exact in any order: the numbers are those of plain
-per-prototype loops (tests/test_llm_passes.py checks it bit for bit).
+independently a loop over contiguous rows, which LLVM turns into SIMD code, the exponentials
+included (:func:`~gb_pin.learn.vector_math.vexp`). Sums over j and over k keep their order, and
+the minimum is exact in any order: the numbers are those of plain per-prototype loops with that
+exp (tests/test_llm_kernels.py checks it bit for bit).
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
@@ -31,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
+from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
 
 class MapArrays(NamedTuple):
@@ -117,9 +119,20 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
-    # The activations b_k = exp(nearest - ||u_k||^2).
+    # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN) into row m of Y:
+    # vexp in SIMD code, then math.exp for the rare argument beyond its range (a prototype 26
+    # radii farther than the nearest, or NaN).
+    outside = False
     for k in range(K):
-        act[k] = math.exp(nearest - sq[k])
+        v = nearest - sq[k]
+        inside = v >= -VEXP_LIMIT
+        outside |= not inside
+        act[k] = vexp(v if inside else -VEXP_LIMIT)
+    if outside:
+        for k in range(K):
+            v = nearest - sq[k]
+            if not v >= -VEXP_LIMIT:
+                act[k] = math.exp(v)
     # Y[i, k] = (W_k u_k + o_k)_i, sum over j in order (row m: ones, so that the row sums give sum_k b_k).
     for i in range(m):
         for k in range(K):
