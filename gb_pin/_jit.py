@@ -29,6 +29,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/body/chain.py",
     "learn/body/components.py",
     "learn/body/joints.py",
+    "learn/body/planar.py",
     "learn/body/task.py",
     "learn/component_metrics.py",
     "learn/exploration.py",
@@ -39,6 +40,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/metrics.py",
     "learn/sensor.py",
     "learn/session_kernels.py",
+    "learn/vector_math.py",
     "learn/weighting.py",
     "robot/reachability.py",
 )

@@ -76,7 +76,7 @@ Seed = Literal["learned", "nearest", "home", "middle"] | ArrayLike
 
 def _empty_map(n: int, m: int) -> MapArrays:
     """A map of no prototypes, of the learned map's compiled type (for given seeds)."""
-    return MapArrays(np.zeros((1, n)), np.zeros((1, m, n)), np.zeros((1, m)), 1.0, np.zeros(1))
+    return LocalLinearMap(radius=1.0).initialize(np.zeros(n), np.zeros(m), capacity=1).kernel()
 
 
 def _model(model: LocalLinearMap | None, seed: str, n: int, m: int) -> tuple[MapArrays, int]:

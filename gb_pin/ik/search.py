@@ -122,7 +122,7 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
     docs/IK.md). ``nearest_only``: the local model o_k + W_k u_k of the nearest prototype alone.
     """
     lm, K, cut = seeds.model, seeds.prototypes, seeds.cut
-    P, W, O, act, inv = lm.prototypes, lm.matrices, lm.offsets, lm.act, 1.0 / lm.radius
+    P, W, O, act, inv = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.act, 1.0 / lm.radius
     n, m = x.shape[0], q.shape[0]
     smallest, nearest = np.inf, 0
     for k in range(K):
@@ -143,10 +143,10 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
             continue
         a = math.exp(smallest - act[k])
         total += a
-        for i in range(m):
-            y = O[k, i]
+        for i in range(m):  # the map's storage is entry-major: W[i, j, k], O[i, k]
+            y = O[i, k]
             for j in range(n):
-                y += W[k, i, j] * ((x[j] - P[k, j]) * inv)
+                y += W[i, j, k] * ((x[j] - P[k, j]) * inv)
             q[i] += a * y
     for i in range(m):
         q[i] /= total

@@ -43,11 +43,14 @@ def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
     # sqrt(sigma^2 / (sigma^2 + sigma_delta^2)), written so that it cannot overflow.
     shrink = 1.0 / math.sqrt(1.0 + (sigma_delta / sigma) ** 2) if sigma > 0.0 else 0.0
     m, n = A.shape
-    for i in range(m):
-        for j in range(n):
-            A[i, j] = shrink * (A[i, j] + sigma_delta * rng.standard_normal())
-    for i in range(m):
-        b[i] = shrink * (b[i] + sigma_delta * rng.standard_normal())
+    # A row by row, then b as one more row: one call site, so numba inlines the normal generator once.
+    for i in range(m + 1):
+        for j in range(n if i < m else m):
+            z = rng.standard_normal()
+            if i < m:
+                A[i, j] = shrink * (A[i, j] + sigma_delta * z)
+            else:
+                b[j] = shrink * (b[j] + sigma_delta * z)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin.learn.body.chain import Body
+from gb_pin.learn.body.chain import Body, PlanarBody
 from gb_pin.learn.goals.base import GoalArrays
 from gb_pin.learn.llm_kernels import MapArrays, Scratch
 from gb_pin.learn.sensor import NoSensorArrays, SensorArrays
@@ -98,7 +98,7 @@ class Robot(NamedTuple):
     """
 
     limits: Limits
-    body: Body
+    body: Body | PlanarBody
     sensor: NoSensorArrays | SensorArrays
 
 

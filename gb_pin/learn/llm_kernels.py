@@ -12,7 +12,14 @@ Conventions (the paper is silent; these reproduce its numbers):
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
 The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
-matrices W (K, m, n), offsets O (K, m); :class:`Scratch` buffers): no allocation per step.
+matrices and offsets stored entry-major, contiguous over the prototypes; :class:`Scratch`
+buffers): no allocation per step. With hundreds of prototypes a step is three passes over all of
+them (g at the target; g and the update at the reached position); storing entry (i, j) of every
+W_k as one contiguous row ``W[i, j, :K]`` makes every loop that treats the prototypes
+independently a loop over contiguous rows, which LLVM turns into SIMD code, the exponentials
+included (:func:`~gb_pin.learn.vector_math.vexp`). Sums over j and over k keep their order, and
+the minimum is exact in any order: the numbers are those of plain per-prototype loops with that
+exp (tests/test_llm_kernels.py checks it bit for bit).
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
@@ -25,24 +32,36 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
+from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
 
 class MapArrays(NamedTuple):
     """A local-linear map's storage, as the compiled kernels take it (what a prediction reads).
 
+    Prototype k's numbers are stored entry-major, contiguous over k, so that the loops over the
+    prototypes vectorise; :class:`~gb_pin.learn.llm.LocalLinearMap` converts to and from the
+    (K, m, n) layout of its attributes and files.
+
     Attributes:
         prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
-        matrices: (capacity, m, n) local matrices W_k (acting on (x - p_k) / d).
-        offsets: (capacity, m) local offsets o_k.
+        matrix_entries: (m, n, row) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
+            (W_k acts on (x - p_k) / d); row >= capacity (rows padded against cache conflicts).
+        offset_entries: (m, row) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
         radius: d [m].
-        act: (capacity,) scratch: the activations of the last prediction.
+        act: (row,) scratch: the activations of the last prediction.
+        inputs: (n + 1, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction
+            (rows 0..n-1), then ||u_k||^2.
+        outputs: (m', row), m' >= m + 1 a multiple of four: the local outputs W_k u_k + o_k of the
+            last prediction (rows 0..m-1, scratch), a row of ones, rows of zeros (constant).
     """
 
     prototypes: NDArray[np.float64]
-    matrices: NDArray[np.float64]
-    offsets: NDArray[np.float64]
+    matrix_entries: NDArray[np.float64]
+    offset_entries: NDArray[np.float64]
     radius: float
     act: NDArray[np.float64]
+    inputs: NDArray[np.float64]
+    outputs: NDArray[np.float64]
 
 
 class Scratch(NamedTuple):
@@ -63,36 +82,83 @@ class Scratch(NamedTuple):
 def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
-    ``lm.act`` (>= K,) receives the shifted activations exp(-(||u_k||^2 - min)).
+    ``lm.inputs`` receives the scaled inputs u_k, ``lm.act`` the shifted activations
+    exp(-(||u_k||^2 - min)), ``lm.outputs`` the local outputs. Every loop over the
+    prototypes that treats them independently runs on contiguous rows (SIMD code); the sums over
+    them run in order k = 0, 1, ..., four rows side by side. (One function body: numba compiles
+    inlined helpers much more slowly, and calls cost more than these loops at small K.)
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    P, W, O, U, Y, act = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
+    inv = 1.0 / lm.radius
     n = x.shape[0]
     m = out.shape[0]
-    inv = 1.0 / radius
-    smallest = np.inf
+    sq = U[n]  # scratch row: ||u_k||^2
+    # u_k and ||u_k||^2 (sum over j in order).
     for k in range(K):
-        s = 0.0
-        for j in range(n):
-            u = (x[j] - P[k, j]) * inv
-            s += u * u
-        act[k] = s
-        if s < smallest:
-            smallest = s
-    total = 0.0
+        sq[k] = 0.0
+    for j in range(n):
+        xj = x[j]
+        for k in range(K):
+            u = (xj - P[k, j]) * inv
+            U[j, k] = u
+            sq[k] += u * u
+    # min_k ||u_k||^2 in four lanes (exact in any order; NaNs skipped).
+    s0 = s1 = s2 = s3 = np.inf
+    k = 0
+    while k + 4 <= K:
+        a, b, c, d = sq[k], sq[k + 1], sq[k + 2], sq[k + 3]
+        s0 = a if a < s0 else s0
+        s1 = b if b < s1 else s1
+        s2 = c if c < s2 else s2
+        s3 = d if d < s3 else s3
+        k += 4
+    while k < K:
+        a = sq[k]
+        s0 = a if a < s0 else s0
+        k += 1
+    s0 = s1 if s1 < s0 else s0
+    s2 = s3 if s3 < s2 else s2
+    nearest = s2 if s2 < s0 else s0
+    # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN) into row m of Y:
+    # vexp in SIMD code, then math.exp for the rare argument beyond its range (a prototype 26
+    # radii farther than the nearest, or NaN).
+    outside = False
+    for k in range(K):
+        v = nearest - sq[k]
+        inside = v >= -VEXP_LIMIT
+        outside |= not inside
+        act[k] = vexp(v if inside else -VEXP_LIMIT)
+    if outside:
+        for k in range(K):
+            v = nearest - sq[k]
+            if not v >= -VEXP_LIMIT:
+                act[k] = math.exp(v)
+    # Y[i, k] = (W_k u_k + o_k)_i, sum over j in order (row m: ones, so that the row sums give sum_k b_k).
     for i in range(m):
-        out[i] = 0.0
-    for k in range(K):
-        a = math.exp(smallest - act[k])
-        act[k] = a
-        total += a
-        for i in range(m):
-            y = O[k, i]
-            for j in range(n):
-                y += W[k, i, j] * ((x[j] - P[k, j]) * inv)
-            out[i] += a * y
+        for k in range(K):
+            Y[i, k] = O[i, k] + W[i, 0, k] * U[0, k]
+        for j in range(1, n):
+            for k in range(K):
+                Y[i, k] += W[i, j, k] * U[j, k]
+    # Row sums of b_k Y[i, k], four chains side by side, rows 0..m (rows after m in the last block:
+    # zeros, summed and dropped).
+    total = 0.0
+    for i in range(0, m + 1, 4):
+        s0 = s1 = s2 = s3 = 0.0
+        for k in range(K):
+            b = act[k]
+            s0 += b * Y[i, k]
+            s1 += b * Y[i + 1, k]
+            s2 += b * Y[i + 2, k]
+            s3 += b * Y[i + 3, k]
+        for r, v in enumerate((s0, s1, s2, s3)):
+            if i + r < m:
+                out[i + r] = v
+            elif i + r == m:
+                total = v
     for i in range(m):
         out[i] /= total
-    return total, smallest
+    return total, nearest
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -102,48 +168,55 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     With beta_k' = -(2/d) beta_k (u_k - sum_j beta_j u_j):
     J = (1/d) sum_k beta_k [W_k - 2 (y_k - g) u_k^T],  y_k = W_k u_k + o_k.
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
+    total, _ = llm_predict(x, lm, K, scratch.g)
+    _jacobian_of_prediction(lm, K, total, scratch)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-def]
+    """dg/dx into ``scratch.J`` from the last prediction (u_k, activations, their sum, g in ``scratch.g``)."""
+    W, O, U, act = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
     g, y, J = scratch
-    n = x.shape[0]
-    m = g.shape[0]
-    inv = 1.0 / radius
-    total, _ = llm_predict(x, lm, K, g)
+    m, n = J.shape
+    inv = 1.0 / lm.radius
     for i in range(m):
         for j in range(n):
             J[i, j] = 0.0
     for k in range(K):
         beta = act[k] / total
         for i in range(m):
-            yi = O[k, i]
+            yi = O[i, k]
             for j in range(n):
-                yi += W[k, i, j] * ((x[j] - P[k, j]) * inv)
+                yi += W[i, j, k] * U[j, k]
             y[i] = yi
         for i in range(m):
             r = 2.0 * (y[i] - g[i])
             for j in range(n):
-                J[i, j] += beta * (W[k, i, j] - r * ((x[j] - P[k, j]) * inv))
+                J[i, j] += beta * (W[i, j, k] - r * U[j, k])
     for i in range(m):
         for j in range(n):
             J[i, j] *= inv
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def llm_insert(x, lm, K, scratch):  # type: ignore[no-untyped-def]
+def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 
-    The caller guarantees capacity (P.shape[0] > K). Returns the new count K + 1.
+    ``total`` and ``scratch.g``: the sum of activations and g(x) of the last prediction, which was
+    at ``x`` with these K prototypes. The caller guarantees capacity (P.shape[0] > K). Returns the
+    new count K + 1.
     """
-    P, W, O, radius = lm.prototypes, lm.matrices, lm.offsets, lm.radius
+    P, W, O, radius = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.radius
     g, J = scratch.g, scratch.J
-    llm_jacobian(x, lm, K, scratch)
+    _jacobian_of_prediction(lm, K, total, scratch)
     n = x.shape[0]
     m = g.shape[0]
     for j in range(n):
         P[K, j] = x[j]
     for i in range(m):
-        O[K, i] = g[i]
+        O[i, K] = g[i]
         for j in range(n):
-            W[K, i, j] = radius * J[i, j]
+            W[i, j, K] = radius * J[i, j]
     return K + 1
 
 
@@ -155,27 +228,29 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
     o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
     """
-    P, W, O, act, radius = lm.prototypes, lm.matrices, lm.offsets, lm.act, lm.radius
-    g, y = scratch.g, scratch.y
-    n = x.shape[0]
+    g, e = scratch.g, scratch.y
     m = q.shape[0]
-    inv = 1.0 / radius
-    total, smallest = llm_predict(x, lm, K, g)
-    if smallest >= 1.0:
-        K = llm_insert(x, lm, K, scratch)
-        total, smallest = llm_predict(x, lm, K, g)
+    total, nearest = llm_predict(x, lm, K, g)
+    if nearest >= 1.0:
+        K = llm_insert(x, lm, K, total, scratch)
+        total, nearest = llm_predict(x, lm, K, g)
     if w == 0.0:
         return K
     for i in range(m):
-        y[i] = q[i] - g[i]  # the error e, kept in y
+        e[i] = q[i] - g[i]  # the error e, kept in y
+    W, O, U, b = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
+    n = x.shape[0]
     scale = eta * w / total
-    for k in range(K):
-        c = scale * act[k]
-        for i in range(m):
-            ce = c * y[i]
-            O[k, i] += ce
-            for j in range(n):
-                W[k, i, j] += ce * ((x[j] - P[k, j]) * inv)
+    # Row by row, each loop writing one row (more rows per loop would need more run-time overlap
+    # checks than LLVM vectorises with); c_k = eta w beta_k = scale b_k and c_k e_i are recomputed
+    # where used (a product each) rather than stored and read back.
+    for i in range(m):
+        ei = e[i]
+        for k in range(K):
+            O[i, k] += (scale * b[k]) * ei
+        for j in range(n):
+            for k in range(K):
+                W[i, j, k] += ((scale * b[k]) * ei) * U[j, k]
     return K
 
 

@@ -263,7 +263,7 @@ class BabbleState:
             int(cfg.path_length), float(cfg.p_home),
         )  # fmt: skip
         m, n = self.home.shape[0], self.targets.shape[1]
-        body = self.chain.kernel() if self.chain is not None else None
+        body = self.chain.forward_kernel() if self.chain is not None else None
         v = self.vectors
         q_prev, q_start, q_end, x_prev, target_prev, path_start, path_end, q_exec = (
             v[k] for k in self.VECTORS

@@ -320,7 +320,7 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
         """
         arr2, single = self._postures(q)
         out = np.empty((arr2.shape[0], self.n_task))
-        positions(arr2, self.chain.kernel(), out)
+        positions(arr2, self.chain.forward_kernel(), out)
         return out[0] if single else out
 
     def forward_pinocchio(self, q: ArrayLike) -> NDArray[np.float64]:

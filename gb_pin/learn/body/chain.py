@@ -6,7 +6,9 @@ placements, axes and kinds; the frame and the task axes), filled from a ``pin.Mo
 the robot side (:mod:`gb_pin.robot.chain_reader`), so that Pinocchio stays the single
 source of the robot. :meth:`KinematicChain.kernel` gives the compiled form
 (:class:`Body`, evaluated by :func:`body_forward`), tested against
-``pin.framesForwardKinematics``.
+``pin.framesForwardKinematics``; :meth:`KinematicChain.forward_kernel` the closed form of a
+chain whose joints turn about parallel axes (:class:`~gb_pin.learn.body.planar.PlanarBody`),
+which the babbling loop uses when the chain allows it.
 
 This module imports neither pinocchio nor meshcat: the learner uses it.
 """
@@ -14,15 +16,19 @@ This module imports neither pinocchio nor meshcat: the learner uses it.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.components import TaskComponents
 from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
+from gb_pin.learn.body.planar import PlanarBody, parallel_axes, planar_forward
 from gb_pin.learn.body.task import (
     FramePosition,
     StackedTask,
@@ -32,7 +38,7 @@ from gb_pin.learn.body.task import (
     task_forward,
 )
 
-__all__ = ["PRISMATIC", "REVOLUTE", "Body", "KinematicChain", "body_forward"]
+__all__ = ["PRISMATIC", "REVOLUTE", "Body", "KinematicChain", "PlanarBody", "body_forward"]
 
 
 class Body(NamedTuple):
@@ -53,7 +59,27 @@ class Body(NamedTuple):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def body_forward(q, body, out):  # type: ignore[no-untyped-def]
-    """x = f(q) into ``out`` (n,) for one posture ``q`` (m,) (Eq. 1)."""
+    """x = f(q) into ``out`` (n,) for one posture ``q`` (m,) (Eq. 1).
+
+    ``body``: a :class:`Body` (any chain, any task map) or a :class:`PlanarBody` (the closed form
+    of a chain about parallel axes); numba compiles the one its class names.
+    """
+    _forward(q, body, out)
+
+
+def _forward(q: Any, body: Any, out: Any) -> None:
+    raise TypeError("_forward runs inside compiled code (see body_forward)")
+
+
+@overload(_forward, jit_options={"nogil": True, "error_model": "numpy"}, inline="always")
+def _forward_impl(q, body, out):  # type: ignore[no-untyped-def]
+    if isinstance(body, types.BaseNamedTuple) and body.instance_class is PlanarBody:
+        return lambda q, body, out: planar_forward(q, body, out)
+    return lambda q, body, out: _tree_forward(q, body, out)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tree_forward(q, body, out):  # type: ignore[no-untyped-def]
     joints_forward(q, body.joints, body.rot_ws, body.pos_ws)
     task_forward(body.task, body.rot_ws, body.pos_ws, out)
 
@@ -123,9 +149,22 @@ class KinematicChain:
         return FramePosition(self.frame_parent, self.frame_translation, self.task_axes)
 
     def kernel(self) -> Body:
-        """The compiled form, with fresh scratch buffers."""
+        """The compiled form, with fresh scratch buffers (every joint frame: Jacobians, viewers)."""
         m = self.n_joints
         return Body(self.joints, self.task.arrays(), np.empty((m, 3, 3)), np.empty((m, 3)))
+
+    def forward_kernel(self) -> Body | PlanarBody:
+        """The fastest compiled form of f alone (what the babbling loop evaluates).
+
+        The closed form if every joint turns about one direction
+        (:func:`~gb_pin.learn.body.planar.parallel_axes`), else :meth:`kernel`.
+        """
+        planar = self._planar
+        return planar if planar is not None else self.kernel()
+
+    @cached_property
+    def _planar(self) -> PlanarBody | None:
+        return parallel_axes(self)
 
     def forward(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Task-space position of the frame for one posture ``q`` of shape (m,)."""
@@ -133,7 +172,7 @@ class KinematicChain:
         if q.shape != (self.n_joints,):
             raise InvalidArgumentError(f"q must have shape ({self.n_joints},), got shape {q.shape}")
         out = np.empty(self.n_task)
-        body_forward(q, self.kernel(), out)
+        body_forward(q, self.forward_kernel(), out)
         return out
 
     # -- as plain arrays (checkpoints) --------------------------------------------

@@ -1,0 +1,139 @@
+"""Tests of gb_pin.learn.llm_kernels: the entry-major, vectorised kernels compute what per-prototype loops do.
+
+The kernels store the map entry-major and treat the task dimensions 2 and 3 with fused loops,
+other n with a loop per coordinate; each must give, bit for bit, the numbers of the plain
+per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the map's exp,
+sums over j and over k in order): the layout changes no number. Here it
+is checked for every branch (n = 1..6), for prototype counts around the four-lane boundaries of
+the minimum and the row sums, and for m below, at and above four.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gb_pin import LocalLinearMap
+from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
+
+
+def exp(x: float) -> float:
+    """The map's exponential: vexp within its range, the C library's outside (llm_kernels.llm_predict)."""
+    return float(vexp(x)) if -VEXP_LIMIT <= x <= VEXP_LIMIT else math.exp(x)
+
+
+class LoopMap:
+    """g, insertion and the gradient step of Sec. II-C as per-prototype Python loops, documented order."""
+
+    def __init__(self, x0: list[float], q0: list[float], d: float) -> None:
+        self.d, self.inv = d, 1.0 / d
+        self.P, self.O = [list(x0)], [list(q0)]
+        self.W = [[[0.0] * len(x0) for _ in q0]]
+
+    def predict(self, x: list[float]) -> tuple[list[float], list[float], float, float]:
+        """(g(x), activations, their sum, min_k ||u_k||^2)."""
+        n, m, K = len(x), len(self.O[0]), len(self.P)
+        sq = []
+        for k in range(K):
+            s = 0.0
+            for j in range(n):
+                u = (x[j] - self.P[k][j]) * self.inv
+                s += u * u
+            sq.append(s)
+        smallest = min(sq)
+        act, total, out = [], 0.0, [0.0] * m
+        for k in range(K):
+            a = exp(smallest - sq[k])
+            act.append(a)
+            total += a
+            for i in range(m):
+                y = self.O[k][i]
+                for j in range(n):
+                    y += self.W[k][i][j] * ((x[j] - self.P[k][j]) * self.inv)
+                out[i] += a * y
+        return [v / total for v in out], act, total, smallest
+
+    def learn(self, x: list[float], q: list[float], w: float, eta: float) -> None:
+        """Insert a prototype at x if none is within d, then one gradient step."""
+        n, m = len(x), len(q)
+        g, act, total, smallest = self.predict(x)
+        if smallest >= 1.0:
+            J = [[0.0] * n for _ in range(m)]
+            for k in range(len(self.P)):
+                beta = act[k] / total
+                y = []
+                for i in range(m):
+                    yi = self.O[k][i]
+                    for j in range(n):
+                        yi += self.W[k][i][j] * ((x[j] - self.P[k][j]) * self.inv)
+                    y.append(yi)
+                for i in range(m):
+                    r = 2.0 * (y[i] - g[i])
+                    for j in range(n):
+                        J[i][j] += beta * (self.W[k][i][j] - r * ((x[j] - self.P[k][j]) * self.inv))
+            self.P.append(list(x))
+            self.O.append(list(g))
+            self.W.append([[self.d * (J[i][j] * self.inv) for j in range(n)] for i in range(m)])
+            g, act, total, smallest = self.predict(x)
+        if w == 0.0:
+            return
+        e = [q[i] - g[i] for i in range(m)]
+        scale = eta * w / total
+        for k in range(len(self.P)):
+            c = scale * act[k]
+            for i in range(m):
+                ce = c * e[i]
+                self.O[k][i] += ce
+                for j in range(n):
+                    self.W[k][i][j] += ce * ((x[j] - self.P[k][j]) * self.inv)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 6])
+@pytest.mark.parametrize("m", [1, 3, 4, 7])
+def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int) -> None:
+    """partial_fit (insertions, zero weights included) and predict give the loops' numbers exactly."""
+    rng = np.random.default_rng(10 * n + m)
+    d, eta = 0.1, 0.4
+    x0, q0 = rng.uniform(-1, 1, n), rng.normal(size=m)
+    fast = LocalLinearMap(radius=d, learning_rate=eta).initialize(x0, q0, capacity=2)  # grows on the way
+    slow = LoopMap(x0.tolist(), q0.tolist(), d)
+    X = rng.uniform(-1, 1, (30, n))
+    Q = rng.normal(size=(30, m))
+    w = rng.uniform(0, 1, 30)
+    w[::7] = 0.0
+    for r in range(30):
+        fast.partial_fit(X[r : r + 1], Q[r : r + 1], w[r : r + 1])
+        slow.learn(X[r].tolist(), Q[r].tolist(), float(w[r]), eta)
+        probes = np.vstack([X[r], rng.uniform(-1, 1, (3, n))])
+        got = fast.predict(probes, warn=False)
+        for p, row in zip(probes, got, strict=True):
+            assert row.tolist() == slow.predict(p.tolist())[0]
+    assert fast.n_prototypes_ == len(slow.P)
+    assert fast.n_prototypes_ >= 9  # one insertion at a time: K went through the four-lane boundaries
+    np.testing.assert_array_equal(fast.prototypes_, np.array(slow.P))
+    np.testing.assert_array_equal(fast.matrices_, np.array(slow.W))
+    np.testing.assert_array_equal(fast.offsets_, np.array(slow.O))
+
+
+def test_storage_round_trips_in_the_file_layout() -> None:
+    """to_arrays: (K, n), (K, m, n), (K, m) contiguous copies; from_arrays and reserve keep every number."""
+    rng = np.random.default_rng(3)
+    fast = LocalLinearMap(radius=0.2, learning_rate=0.5).initialize(rng.uniform(-1, 1, 3), rng.normal(size=5))
+    fast.partial_fit(rng.uniform(-1, 1, (40, 3)), rng.normal(size=(40, 5)))
+    K = fast.n_prototypes_
+    arrays = fast.to_arrays()
+    assert [arrays[k].shape for k in ("prototypes", "matrices", "offsets")] == [(K, 3), (K, 5, 3), (K, 5)]
+    assert all(a.flags.c_contiguous for a in arrays.values())
+    X = rng.uniform(-1, 1, (10, 3))
+    before = fast.predict(X, warn=False)
+    again = LocalLinearMap.from_arrays(arrays, radius=0.2, learning_rate=0.5, capacity=3 * K)
+    np.testing.assert_array_equal(again.predict(X, warn=False), before)
+    for name in ("prototypes_", "matrices_", "offsets_"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(fast, name))
+    fast.reserve(4 * fast.capacity)
+    np.testing.assert_array_equal(fast.predict(X, warn=False), before)
+    np.testing.assert_array_equal(fast.matrices_, arrays["matrices"])
+    arrays["matrices"][0, 0, 0] += 1.0  # copies: the map is untouched
+    np.testing.assert_array_equal(fast.predict(X, warn=False), before)
