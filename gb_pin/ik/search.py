@@ -128,7 +128,7 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
     for k in range(K):
         s = 0.0
         for j in range(n):
-            u = (x[j] - P[k, j]) * inv
+            u = (x[j] - P[j, k]) * inv
             s += u * u
         act[k] = s
         if s < smallest:
@@ -143,10 +143,10 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
             continue
         a = math.exp(smallest - act[k])
         total += a
-        for i in range(m):  # the map's storage is entry-major: W[i, j, k], O[i, k]
+        for i in range(m):  # the map's storage is entry-major: P[j, k], W[i, j, k], O[i, k]
             y = O[i, k]
             for j in range(n):
-                y += W[i, j, k] * ((x[j] - P[k, j]) * inv)
+                y += W[i, j, k] * ((x[j] - P[j, k]) * inv)
             q[i] += a * y
     for i in range(m):
         q[i] /= total

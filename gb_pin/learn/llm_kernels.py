@@ -11,9 +11,9 @@ Conventions (the paper is silent; these reproduce its numbers):
 * Responsibilities are computed as exp(-(||u_k||^2 - min_j ||u_j||^2)) before
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
-The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes P (K, n),
-matrices and offsets stored entry-major, contiguous over the prototypes; :class:`Scratch`
-buffers): no allocation per step. With hundreds of prototypes a step is three passes over all of
+The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes, matrices and
+offsets stored entry-major, contiguous over the prototypes; :class:`Scratch` buffers): no
+allocation per step. With hundreds of prototypes a step is three passes over all of
 them (g at the target; g and the update at the reached position); storing entry (i, j) of every
 W_k as one contiguous row ``W[i, j, :K]`` makes every loop that treats the prototypes
 independently a loop over contiguous rows, which LLVM turns into SIMD code, the exponentials
@@ -43,7 +43,8 @@ class MapArrays(NamedTuple):
     (K, m, n) layout of its attributes and files.
 
     Attributes:
-        prototypes: (capacity, n) prototype centres p_k [m]; the first K are in use.
+        prototypes: (n, capacity) prototype centres, ``prototypes[j, k]`` = (p_k)_j [m]; the
+            first K columns are in use.
         matrix_entries: (m, n, row) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
             (W_k acts on (x - p_k) / d); row >= capacity (rows padded against cache conflicts).
         offset_entries: (m, row) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
@@ -51,8 +52,9 @@ class MapArrays(NamedTuple):
         act: (row,) scratch: the activations of the last prediction.
         inputs: (n + 1, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction
             (rows 0..n-1), then ||u_k||^2.
-        outputs: (m', row), m' >= m + 1 a multiple of four: the local outputs W_k u_k + o_k of the
-            last prediction (rows 0..m-1, scratch), a row of ones, rows of zeros (constant).
+        outputs: (m', row), m' >= m + 1 a multiple of eight: the weighted local outputs
+            b_k (W_k u_k + o_k) of the last prediction (rows 0..m-1, scratch), its activations
+            b_k (row m), rows of zeros (constant).
     """
 
     prototypes: NDArray[np.float64]
@@ -83,25 +85,48 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
     ``lm.inputs`` receives the scaled inputs u_k, ``lm.act`` the shifted activations
-    exp(-(||u_k||^2 - min)), ``lm.outputs`` the local outputs. Every loop over the
-    prototypes that treats them independently runs on contiguous rows (SIMD code); the sums over
-    them run in order k = 0, 1, ..., four rows side by side. (One function body: numba compiles
-    inlined helpers much more slowly, and calls cost more than these loops at small K.)
+    b_k = exp(-(||u_k||^2 - min)), ``lm.outputs`` the weighted local outputs b_k (W_k u_k + o_k).
+    Every loop over the prototypes that treats them independently runs on contiguous rows (SIMD
+    code), the products b_k y_k included; the sums over them run in order k = 0, 1, ..., eight
+    rows side by side (each row's sum is a chain of dependent additions: eight chains keep the
+    adder busy). With two or three inputs, u_k, ||u_k||^2 and the local outputs are one
+    expression per prototype: the same sums in the same order as the general loops over the
+    inputs. (One function body: numba compiles inlined helpers much more slowly, and calls cost
+    more than these loops at small K.)
     """
     P, W, O, U, Y, act = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
     inv = 1.0 / lm.radius
     n = x.shape[0]
     m = out.shape[0]
     sq = U[n]  # scratch row: ||u_k||^2
-    # u_k and ||u_k||^2 (sum over j in order).
-    for k in range(K):
-        sq[k] = 0.0
-    for j in range(n):
-        xj = x[j]
+    # u_k and ||u_k||^2 (sum over j in order, from 0.0: 0.0 + u_0^2 is u_0^2).
+    if n == 3:
+        x0, x1, x2 = x[0], x[1], x[2]
         for k in range(K):
-            u = (xj - P[k, j]) * inv
-            U[j, k] = u
-            sq[k] += u * u
+            u0 = (x0 - P[0, k]) * inv
+            u1 = (x1 - P[1, k]) * inv
+            u2 = (x2 - P[2, k]) * inv
+            U[0, k] = u0
+            U[1, k] = u1
+            U[2, k] = u2
+            sq[k] = (u0 * u0 + u1 * u1) + u2 * u2
+    elif n == 2:
+        x0, x1 = x[0], x[1]
+        for k in range(K):
+            u0 = (x0 - P[0, k]) * inv
+            u1 = (x1 - P[1, k]) * inv
+            U[0, k] = u0
+            U[1, k] = u1
+            sq[k] = u0 * u0 + u1 * u1
+    else:
+        for k in range(K):
+            sq[k] = 0.0
+        for j in range(n):
+            xj = x[j]
+            for k in range(K):
+                u = (xj - P[j, k]) * inv
+                U[j, k] = u
+                sq[k] += u * u
     # min_k ||u_k||^2 in four lanes (exact in any order; NaNs skipped).
     s0 = s1 = s2 = s3 = np.inf
     k = 0
@@ -119,9 +144,9 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
-    # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN) into row m of Y:
-    # vexp in SIMD code, then math.exp for the rare argument beyond its range (a prototype 26
-    # radii farther than the nearest, or NaN).
+    # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN): vexp in SIMD
+    # code, then math.exp for the rare argument beyond its range (a prototype 26 radii farther
+    # than the nearest, or NaN).
     outside = False
     for k in range(K):
         v = nearest - sq[k]
@@ -133,25 +158,43 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
             v = nearest - sq[k]
             if not v >= -VEXP_LIMIT:
                 act[k] = math.exp(v)
-    # Y[i, k] = (W_k u_k + o_k)_i, sum over j in order (row m: ones, so that the row sums give sum_k b_k).
-    for i in range(m):
-        for k in range(K):
-            Y[i, k] = O[i, k] + W[i, 0, k] * U[0, k]
-        for j in range(1, n):
+    # Y[i, k] = b_k (W_k u_k + o_k)_i, the local output's sum over j in order; row m: b_k (= b_k 1,
+    # so that the row sums give sum_k b_k).
+    if n == 3:
+        for i in range(m):
             for k in range(K):
-                Y[i, k] += W[i, j, k] * U[j, k]
-    # Row sums of b_k Y[i, k], four chains side by side, rows 0..m (rows after m in the last block:
-    # zeros, summed and dropped).
+                y = ((O[i, k] + W[i, 0, k] * U[0, k]) + W[i, 1, k] * U[1, k]) + W[i, 2, k] * U[2, k]
+                Y[i, k] = act[k] * y
+    elif n == 2:
+        for i in range(m):
+            for k in range(K):
+                Y[i, k] = act[k] * ((O[i, k] + W[i, 0, k] * U[0, k]) + W[i, 1, k] * U[1, k])
+    else:
+        for i in range(m):
+            for k in range(K):
+                Y[i, k] = O[i, k] + W[i, 0, k] * U[0, k]
+            for j in range(1, n):
+                for k in range(K):
+                    Y[i, k] += W[i, j, k] * U[j, k]
+            for k in range(K):
+                Y[i, k] *= act[k]
+    for k in range(K):
+        Y[m, k] = act[k]
+    # Row sums of b_k Y[i, k], eight chains side by side, rows 0..m (rows after m in the last
+    # block: zeros, summed and dropped).
     total = 0.0
-    for i in range(0, m + 1, 4):
-        s0 = s1 = s2 = s3 = 0.0
+    for i in range(0, m + 1, 8):
+        s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
         for k in range(K):
-            b = act[k]
-            s0 += b * Y[i, k]
-            s1 += b * Y[i + 1, k]
-            s2 += b * Y[i + 2, k]
-            s3 += b * Y[i + 3, k]
-        for r, v in enumerate((s0, s1, s2, s3)):
+            s0 += Y[i, k]
+            s1 += Y[i + 1, k]
+            s2 += Y[i + 2, k]
+            s3 += Y[i + 3, k]
+            s4 += Y[i + 4, k]
+            s5 += Y[i + 5, k]
+            s6 += Y[i + 6, k]
+            s7 += Y[i + 7, k]
+        for r, v in enumerate((s0, s1, s2, s3, s4, s5, s6, s7)):
             if i + r < m:
                 out[i + r] = v
             elif i + r == m:
@@ -203,7 +246,7 @@ def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """Add prototype K at ``x`` with o = g(x) and W = d * dg/dx, so g and dg/dx stay unchanged.
 
     ``total`` and ``scratch.g``: the sum of activations and g(x) of the last prediction, which was
-    at ``x`` with these K prototypes. The caller guarantees capacity (P.shape[0] > K). Returns the
+    at ``x`` with these K prototypes. The caller guarantees capacity (P.shape[1] > K). Returns the
     new count K + 1.
     """
     P, W, O, radius = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.radius
@@ -212,7 +255,7 @@ def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     n = x.shape[0]
     m = g.shape[0]
     for j in range(n):
-        P[K, j] = x[j]
+        P[j, K] = x[j]
     for i in range(m):
         O[i, K] = g[i]
         for j in range(n):

@@ -164,7 +164,7 @@ def _movement(rng, learner, robot, run, rec):  # type: ignore[no-untyped-def]
     limited = max_step < math.inf
     body, sensor = robot.body, robot.sensor
     eta, sigma, sigma_delta = hyper.learning_rate, hyper.sigma, hyper.sigma_delta
-    capacity = lm.prototypes.shape[0]
+    capacity = lm.prototypes.shape[1]
     L = hyper.path_length
     m = q.shape[0]
     n = x.shape[0]

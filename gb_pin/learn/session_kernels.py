@@ -76,7 +76,7 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
     q, target = mo.q, mo.target
     lm = learner.lm
     lower, upper = limits.lower, limits.upper
-    if counters[PROTOTYPES] >= lm.prototypes.shape[0]:
+    if counters[PROTOTYPES] >= lm.prototypes.shape[1]:
         return NEED_CAPACITY
     recording = rec.first <= counters[MOVEMENTS] < rec.last and (counters[STEPS] + 1) % rec.every == 0
     if recording and counters[RECORDED] >= rec.step.shape[0]:
