@@ -36,6 +36,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/goals/draw.py",
     "learn/goals/kernel.py",
     "learn/llm_kernels.py",
+    "learn/llm_simd.py",
     "learn/loop.py",
     "learn/metrics.py",
     "learn/sensor.py",

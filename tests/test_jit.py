@@ -15,8 +15,9 @@ PACKAGE = Path(gb_pin.__file__).parent
 
 
 def _imports_njit(path: Path) -> bool:
+    """Whether the module compiles code: njit, or numba intrinsics (LLVM IR inlined into kernels)."""
     for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.ImportFrom) and "njit" in {a.name for a in node.names}:
+        if isinstance(node, ast.ImportFrom) and {"njit", "intrinsic"} & {a.name for a in node.names}:
             return True
         if isinstance(node, ast.Attribute) and node.attr == "njit":  # numba.njit
             return True
@@ -27,7 +28,9 @@ def _compiled_files() -> set[str]:
     return {
         p.relative_to(PACKAGE).as_posix()
         for p in PACKAGE.rglob("*.py")
-        if p.name != "_jit.py" and "njit" in p.read_text() and _imports_njit(p)
+        if p.name != "_jit.py"
+        and ("njit" in p.read_text() or "intrinsic" in p.read_text())
+        and _imports_njit(p)
     }
 
 

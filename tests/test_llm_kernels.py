@@ -1,11 +1,12 @@
-"""Tests of gb_pin.learn.llm_kernels: the entry-major, vectorised kernels compute what per-prototype loops do.
+"""Tests of gb_pin.learn.llm_kernels and llm_simd: the vectorised kernels compute what per-prototype loops do.
 
-The kernels store the map entry-major and treat the task dimensions 2 and 3 with fused loops,
-other n with a loop per coordinate; each must give, bit for bit, the numbers of the plain
-per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the map's exp,
-sums over j and over k in order): the layout changes no number. Here it
-is checked for every branch (n = 1..6), for prototype counts around the four-lane boundaries of
-the minimum and the row sums, and for m below, at and above four.
+The kernels store the centres entry-major and each prototype's local model together, run the
+sums and the update eight outputs to a SIMD register, and treat the task dimensions 2 and 3 with
+code written out, other n with a loop per coordinate; each must give, bit for bit, the numbers of
+the plain per-prototype loops of Sec. II-C written below in pure Python (IEEE doubles, the map's
+exp, sums over j and over k in order): the layout changes no number. Here it is checked for every
+branch (n = 1..6), for prototype counts around the four-lane boundaries of the minimum, and for m
+below, at and above the eight lanes of a block (the sum of the activations rides in lane m).
 """
 
 from __future__ import annotations
@@ -91,7 +92,7 @@ class LoopMap:
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6])
-@pytest.mark.parametrize("m", [1, 3, 4, 7])
+@pytest.mark.parametrize("m", [1, 3, 4, 7, 8, 9, 20])
 def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int) -> None:
     """partial_fit (insertions, zero weights included) and predict give the loops' numbers exactly."""
     rng = np.random.default_rng(10 * n + m)
@@ -115,6 +116,10 @@ def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int) -> None:
     np.testing.assert_array_equal(fast.prototypes_, np.array(slow.P))
     np.testing.assert_array_equal(fast.matrices_, np.array(slow.W))
     np.testing.assert_array_equal(fast.offsets_, np.array(slow.O))
+    # The padding of every stored model is untouched by the updates: a one after o_k, zeros else.
+    padding = fast._M[:, :, m:]
+    np.testing.assert_array_equal(padding[:, 0, 0], 1.0)
+    assert not padding[:, 1:].any() and not padding[:, 0, 1:].any()
 
 
 def test_storage_round_trips_in_the_file_layout() -> None:

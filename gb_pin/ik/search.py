@@ -122,7 +122,7 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
     docs/IK.md). ``nearest_only``: the local model o_k + W_k u_k of the nearest prototype alone.
     """
     lm, K, cut = seeds.model, seeds.prototypes, seeds.cut
-    P, W, O, act, inv = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.act, 1.0 / lm.radius
+    P, M, act, inv = lm.prototypes, lm.models, lm.act, 1.0 / lm.radius
     n, m = x.shape[0], q.shape[0]
     smallest, nearest = np.inf, 0
     for k in range(K):
@@ -143,10 +143,12 @@ def _learned_seed(x, seeds, nearest_only, q):  # type: ignore[no-untyped-def]
             continue
         a = math.exp(smallest - act[k])
         total += a
-        for i in range(m):  # the map's storage is entry-major: P[j, k], W[i, j, k], O[i, k]
-            y = O[i, k]
+        for i in range(
+            m
+        ):  # the map's storage: P[j, k] = (p_k)_j, M[k, 0, i] = (o_k)_i, M[k, 1 + j, i] = (W_k)_ij
+            y = M[k, 0, i]
             for j in range(n):
-                y += W[i, j, k] * ((x[j] - P[j, k]) * inv)
+                y += M[k, 1 + j, i] * ((x[j] - P[j, k]) * inv)
             q[i] += a * y
     for i in range(m):
         q[i] /= total

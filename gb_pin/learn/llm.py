@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin import _validation as check
 from gb_pin.exceptions import ExtrapolationWarning, InvalidArgumentError, NotFittedError
 from gb_pin.learn.llm_kernels import MapArrays, Scratch, llm_jacobian, llm_learn, llm_predict_many
+from gb_pin.learn.llm_simd import LANES
 
 
 def _row(capacity: int) -> int:
@@ -29,6 +30,13 @@ def _row(capacity: int) -> int:
     as its array is (:func:`_zeros`).
     """
     return 8 * -(-capacity // 8) + 8
+
+
+def _models(capacity: int, n: int, m: int) -> NDArray[np.float64]:
+    """Zeroed storage of ``capacity`` local models (MapArrays.models), the ones after o_k set."""
+    models = _zeros((capacity, n + 1, LANES * (m // LANES + 1)))
+    models[:, 0, m] = 1.0
+    return models
 
 
 def _zeros(shape: tuple[int, ...]) -> NDArray[np.float64]:
@@ -86,24 +94,24 @@ class LocalLinearMap:
             )
         n, m = x0.shape[0], q0.shape[0]
         capacity = max(int(capacity), 1)
-        # Storage as the kernels take it (MapArrays), entry-major, contiguous over the prototypes:
-        # P[j, k] = (p_k)_j, W[i, j, k] = (W_k)_ij, O[i, k] = (o_k)_i.
+        # Storage as the kernels take it (MapArrays): P[j, k] = (p_k)_j, contiguous over the
+        # prototypes; M[k, 0, i] = (o_k)_i, M[k, 1 + j, i] = (W_k)_ij, M[k, 0, m] = 1.
+        self._m = m
         self._P = _zeros((n, _row(capacity)))
-        self._W = _zeros((m, n, _row(capacity)))
-        self._O = _zeros((m, _row(capacity)))
+        self._M = _models(_row(capacity), n, m)
         self._P[:, 0] = x0
-        self._O[:, 0] = q0
+        self._M[0, 0, :m] = q0
         self._K = 1
         self._radius = radius
         self._allocate_scratch()
         return self
 
     def _allocate_scratch(self) -> None:
-        m, n, row = self._W.shape
+        n, row = self._P.shape
+        m = self._m
         self._U = _zeros((n + 1, row))
-        # The weighted local outputs, the activations (row m), zeros up to a multiple of eight rows.
-        self._Y = _zeros((8 * (m // 8 + 1), row))
         self._act = _zeros((row,))
+        self._e = _zeros((self._M.shape[2],))
         self._g = np.empty(m)
         self._y = np.empty(m)
         self._J = np.empty((m, n))
@@ -116,17 +124,15 @@ class LocalLinearMap:
         K = self._K
         P = _zeros((self._P.shape[0], _row(new)))
         P[:, :K] = self._P[:, :K]
-        W = _zeros((*self._W.shape[:2], _row(new)))
-        W[:, :, :K] = self._W[:, :, :K]
-        O = _zeros((self._O.shape[0], _row(new)))
-        O[:, :K] = self._O[:, :K]
-        self._P, self._W, self._O = P, W, O
+        M = _models(_row(new), P.shape[0], self._m)
+        M[:K] = self._M[:K]
+        self._P, self._M = P, M
         self._allocate_scratch()
 
     def kernel(self) -> MapArrays:
         """The storage and scratch buffers as the compiled kernels take them."""
         self._check_fitted()
-        return MapArrays(self._P, self._W, self._O, self._radius, self._act, self._U, self._Y)
+        return MapArrays(self._P, self._M, self._radius, self._act, self._U, self._e)
 
     def scratch(self) -> Scratch:
         """The buffers of learning steps and Jacobians."""
@@ -188,8 +194,8 @@ class LocalLinearMap:
         lm = cls(radius=radius, learning_rate=learning_rate)
         lm.initialize(P[0], O[0], capacity=max(K, capacity or K))
         lm._P[:, :K] = P.T
-        lm._W[:, :, :K] = np.transpose(W, (1, 2, 0))
-        lm._O[:, :K] = O.T
+        lm._M[:K, 1:, :m] = np.transpose(W, (0, 2, 1))
+        lm._M[:K, 0, :m] = O
         lm._K = K
         return lm
 
@@ -213,13 +219,13 @@ class LocalLinearMap:
     def matrices_(self) -> NDArray[np.float64]:
         """(K, m, n) local matrices W_k, acting on (x - p_k) / d (a view of the storage)."""
         self._check_fitted()
-        return np.transpose(self._W[:, :, : self._K], (2, 0, 1))
+        return np.transpose(self._M[: self._K, 1:, : self._m], (0, 2, 1))
 
     @property
     def offsets_(self) -> NDArray[np.float64]:
         """(K, m) local offsets o_k (a view of the storage)."""
         self._check_fitted()
-        return self._O[:, : self._K].T
+        return self._M[: self._K, 0, : self._m]
 
     @property
     def n_inputs_(self) -> int:
@@ -231,7 +237,7 @@ class LocalLinearMap:
     def n_outputs_(self) -> int:
         """Output (posture) dimension m."""
         self._check_fitted()
-        return int(self._O.shape[0])
+        return int(self._m)
 
     # -- scikit-learn style interface -------------------------------------------
     def predict(self, X: ArrayLike, *, warn: bool = True) -> NDArray[np.float64]:

@@ -11,15 +11,15 @@ Conventions (the paper is silent; these reproduce its numbers):
 * Responsibilities are computed as exp(-(||u_k||^2 - min_j ||u_j||^2)) before
   normalising, which is the same soft-max but never underflows far from all prototypes.
 
-The compiled kernels work on preallocated arrays (:class:`MapArrays`: prototypes, matrices and
-offsets stored entry-major, contiguous over the prototypes; :class:`Scratch` buffers): no
-allocation per step. With hundreds of prototypes a step is three passes over all of
-them (g at the target; g and the update at the reached position); storing entry (i, j) of every
-W_k as one contiguous row ``W[i, j, :K]`` makes every loop that treats the prototypes
-independently a loop over contiguous rows, which LLVM turns into SIMD code, the exponentials
-included (:func:`~gb_pin.learn.vector_math.vexp`). Sums over j and over k keep their order, and
-the minimum is exact in any order: the numbers are those of plain per-prototype loops with that
-exp (tests/test_llm_kernels.py checks it bit for bit).
+The compiled kernels work on preallocated arrays (:class:`MapArrays`, :class:`Scratch`): no
+allocation per step. With hundreds of prototypes a step is three passes over all of them (g at
+the target; g and the update at the reached position). What is computed per prototype
+independently (u_k, ||u_k||^2, the exponentials of :func:`~gb_pin.learn.vector_math.vexp`) runs
+over rows contiguous in k, which LLVM turns into SIMD code; the sum over k and the update run over
+each prototype's numbers o_k, W_k stored together, eight outputs side by side in one SIMD register
+(:mod:`~gb_pin.learn.llm_simd`). Sums over j and over k keep their order, and the minimum is exact
+in any order: the numbers are those of plain per-prototype loops with that exp
+(tests/test_llm_kernels.py checks it bit for bit).
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
@@ -32,38 +32,38 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
+from gb_pin.learn.llm_simd import LANES, block_sum, block_update
 from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
 
 class MapArrays(NamedTuple):
     """A local-linear map's storage, as the compiled kernels take it (what a prediction reads).
 
-    Prototype k's numbers are stored entry-major, contiguous over k, so that the loops over the
-    prototypes vectorise; :class:`~gb_pin.learn.llm.LocalLinearMap` converts to and from the
-    (K, m, n) layout of its attributes and files.
+    The centres are stored entry-major (contiguous over k, for the SIMD distance pass), each
+    prototype's local model o_k, W_k together (for the SIMD sums of :mod:`~gb_pin.learn.llm_simd`);
+    :class:`~gb_pin.learn.llm.LocalLinearMap` converts to and from the (K, m, n) layout of its
+    attributes and files. ``capacity`` is ``prototypes.shape[1]``.
 
     Attributes:
         prototypes: (n, capacity) prototype centres, ``prototypes[j, k]`` = (p_k)_j [m]; the
             first K columns are in use.
-        matrix_entries: (m, n, row) local matrices, ``matrix_entries[i, j, k]`` = (W_k)_ij
-            (W_k acts on (x - p_k) / d); row >= capacity (rows padded against cache conflicts).
-        offset_entries: (m, row) local offsets, ``offset_entries[i, k]`` = (o_k)_i.
+        models: (capacity, n + 1, m') local models, m' >= m + 1 a multiple of ``LANES``:
+            ``models[k, 0, i]`` = (o_k)_i, ``models[k, 1 + j, i]`` = (W_k)_ij (W_k acts on
+            (x - p_k) / d); ``models[k, 0, m]`` = 1 (so that the sums over k also give sum_k b_k),
+            zeros after it.
         radius: d [m].
-        act: (row,) scratch: the activations of the last prediction.
-        inputs: (n + 1, row) scratch: the scaled inputs u_k = (x - p_k) / d of the last prediction
-            (rows 0..n-1), then ||u_k||^2.
-        outputs: (m', row), m' >= m + 1 a multiple of eight: the weighted local outputs
-            b_k (W_k u_k + o_k) of the last prediction (rows 0..m-1, scratch), its activations
-            b_k (row m), rows of zeros (constant).
+        act: (capacity,) scratch: the activations of the last prediction.
+        inputs: (n + 1, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last
+            prediction (rows 0..n-1), then ||u_k||^2.
+        errors: (m',) scratch: the error q - g(x) of a learning step, zeros after entry m - 1.
     """
 
     prototypes: NDArray[np.float64]
-    matrix_entries: NDArray[np.float64]
-    offset_entries: NDArray[np.float64]
+    models: NDArray[np.float64]
     radius: float
     act: NDArray[np.float64]
     inputs: NDArray[np.float64]
-    outputs: NDArray[np.float64]
+    errors: NDArray[np.float64]
 
 
 class Scratch(NamedTuple):
@@ -71,7 +71,7 @@ class Scratch(NamedTuple):
 
     Attributes:
         g: (m,) g(x).
-        y: (m,) one local model's output, or the error q - g(x).
+        y: (m,) one local model's output.
         J: (m, n) dg/dx.
     """
 
@@ -85,16 +85,13 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
     ``lm.inputs`` receives the scaled inputs u_k, ``lm.act`` the shifted activations
-    b_k = exp(-(||u_k||^2 - min)), ``lm.outputs`` the weighted local outputs b_k (W_k u_k + o_k).
-    Every loop over the prototypes that treats them independently runs on contiguous rows (SIMD
-    code), the products b_k y_k included; the sums over them run in order k = 0, 1, ..., eight
-    rows side by side (each row's sum is a chain of dependent additions: eight chains keep the
-    adder busy). With two or three inputs, u_k, ||u_k||^2 and the local outputs are one
-    expression per prototype: the same sums in the same order as the general loops over the
-    inputs. (One function body: numba compiles inlined helpers much more slowly, and calls cost
-    more than these loops at small K.)
+    b_k = exp(-(||u_k||^2 - min)). The loops that treat the prototypes independently run on
+    contiguous rows (SIMD code); the sums over them, sum_k b_k (o_k + W_k u_k) in order
+    k = 0, 1, ..., run eight outputs to a register (:func:`~gb_pin.learn.llm_simd.block_sum`).
+    With two or three inputs, u_k and ||u_k||^2 are one expression per prototype: the same sums
+    in the same order as the general loop over the inputs.
     """
-    P, W, O, U, Y, act = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.inputs, lm.outputs, lm.act
+    P, M, U, act = lm.prototypes, lm.models, lm.inputs, lm.act
     inv = 1.0 / lm.radius
     n = x.shape[0]
     m = out.shape[0]
@@ -158,47 +155,16 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
             v = nearest - sq[k]
             if not v >= -VEXP_LIMIT:
                 act[k] = math.exp(v)
-    # Y[i, k] = b_k (W_k u_k + o_k)_i, the local output's sum over j in order; row m: b_k (= b_k 1,
-    # so that the row sums give sum_k b_k).
-    if n == 3:
-        for i in range(m):
-            for k in range(K):
-                y = ((O[i, k] + W[i, 0, k] * U[0, k]) + W[i, 1, k] * U[1, k]) + W[i, 2, k] * U[2, k]
-                Y[i, k] = act[k] * y
-    elif n == 2:
-        for i in range(m):
-            for k in range(K):
-                Y[i, k] = act[k] * ((O[i, k] + W[i, 0, k] * U[0, k]) + W[i, 1, k] * U[1, k])
-    else:
-        for i in range(m):
-            for k in range(K):
-                Y[i, k] = O[i, k] + W[i, 0, k] * U[0, k]
-            for j in range(1, n):
-                for k in range(K):
-                    Y[i, k] += W[i, j, k] * U[j, k]
-            for k in range(K):
-                Y[i, k] *= act[k]
-    for k in range(K):
-        Y[m, k] = act[k]
-    # Row sums of b_k Y[i, k], eight chains side by side, rows 0..m (rows after m in the last
-    # block: zeros, summed and dropped).
+    # sum_k b_k (o_k + W_k u_k) and sum_k b_k (the ones after o_k), a block of eight outputs at a time.
     total = 0.0
-    for i in range(0, m + 1, 8):
-        s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
-        for k in range(K):
-            s0 += Y[i, k]
-            s1 += Y[i + 1, k]
-            s2 += Y[i + 2, k]
-            s3 += Y[i + 3, k]
-            s4 += Y[i + 4, k]
-            s5 += Y[i + 5, k]
-            s6 += Y[i + 6, k]
-            s7 += Y[i + 7, k]
-        for r, v in enumerate((s0, s1, s2, s3, s4, s5, s6, s7)):
-            if i + r < m:
-                out[i + r] = v
-            elif i + r == m:
-                total = v
+    for block in range(M.shape[2] // LANES):
+        sums = block_sum(M, U, act, K, block)
+        for r in range(LANES):
+            i = LANES * block + r
+            if i < m:
+                out[i] = sums[r]
+            elif i == m:
+                total = sums[r]
     for i in range(m):
         out[i] /= total
     return total, nearest
@@ -218,7 +184,7 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """dg/dx into ``scratch.J`` from the last prediction (u_k, activations, their sum, g in ``scratch.g``)."""
-    W, O, U, act = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
+    M, U, act = lm.models, lm.inputs, lm.act
     g, y, J = scratch
     m, n = J.shape
     inv = 1.0 / lm.radius
@@ -228,14 +194,14 @@ def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-d
     for k in range(K):
         beta = act[k] / total
         for i in range(m):
-            yi = O[i, k]
+            yi = M[k, 0, i]
             for j in range(n):
-                yi += W[i, j, k] * U[j, k]
+                yi += M[k, 1 + j, i] * U[j, k]
             y[i] = yi
         for i in range(m):
             r = 2.0 * (y[i] - g[i])
             for j in range(n):
-                J[i, j] += beta * (W[i, j, k] - r * U[j, k])
+                J[i, j] += beta * (M[k, 1 + j, i] - r * U[j, k])
     for i in range(m):
         for j in range(n):
             J[i, j] *= inv
@@ -249,7 +215,7 @@ def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     at ``x`` with these K prototypes. The caller guarantees capacity (P.shape[1] > K). Returns the
     new count K + 1.
     """
-    P, W, O, radius = lm.prototypes, lm.matrix_entries, lm.offset_entries, lm.radius
+    P, M, radius = lm.prototypes, lm.models, lm.radius
     g, J = scratch.g, scratch.J
     _jacobian_of_prediction(lm, K, total, scratch)
     n = x.shape[0]
@@ -257,9 +223,9 @@ def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     for j in range(n):
         P[j, K] = x[j]
     for i in range(m):
-        O[i, K] = g[i]
+        M[K, 0, i] = g[i]
         for j in range(n):
-            W[i, j, K] = radius * J[i, j]
+            M[K, 1 + j, i] = radius * J[i, j]
     return K + 1
 
 
@@ -271,7 +237,7 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     then descends the gradient of w ||q - g(x)||^2 (factor 2 folded into eta):
     o_k += eta w beta_k e,  W_k += eta w beta_k e u_k^T,  e = q - g(x).
     """
-    g, e = scratch.g, scratch.y
+    g, e = scratch.g, lm.errors
     m = q.shape[0]
     total, nearest = llm_predict(x, lm, K, g)
     if nearest >= 1.0:
@@ -280,20 +246,11 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     if w == 0.0:
         return K
     for i in range(m):
-        e[i] = q[i] - g[i]  # the error e, kept in y
-    W, O, U, b = lm.matrix_entries, lm.offset_entries, lm.inputs, lm.act
-    n = x.shape[0]
+        e[i] = q[i] - g[i]  # the error e (its padding stays zero)
     scale = eta * w / total
-    # Row by row, each loop writing one row (more rows per loop would need more run-time overlap
-    # checks than LLVM vectorises with); c_k = eta w beta_k = scale b_k and c_k e_i are recomputed
-    # where used (a product each) rather than stored and read back.
-    for i in range(m):
-        ei = e[i]
-        for k in range(K):
-            O[i, k] += (scale * b[k]) * ei
-        for j in range(n):
-            for k in range(K):
-                W[i, j, k] += ((scale * b[k]) * ei) * U[j, k]
+    # c_k e = (scale b_k) e added to o_k and (c_k e) u_kj to column j of W_k, eight outputs at a time.
+    for block in range(lm.models.shape[2] // LANES):
+        block_update(lm.models, lm.inputs, lm.act, K, block, e, scale, m - LANES * block)
     return K
 
 
