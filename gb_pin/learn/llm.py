@@ -24,10 +24,11 @@ from gb_pin.learn.llm_simd import LANES
 def _row(capacity: int) -> int:
     """Length of the entry-major rows for ``capacity`` prototypes: whole cache lines, and one more.
 
-    Capacities double from 256, so rows of exactly ``capacity`` doubles would lie a power of two
-    apart, where the dozen rows one loop streams compete for the same cache sets (measured: a
-    third slower at 1024 than at 1032). Whole cache lines (eight doubles) keep every row aligned
-    as its array is (:func:`_zeros`).
+    Capacities double, so rows of exactly ``capacity`` doubles could lie a power of two apart,
+    where the rows one loop streams (centres, scaled inputs) compete for the same cache sets
+    (measured when the matrices were stored in such rows too: a third slower at 1024 than at
+    1032). Whole cache lines (eight doubles) keep every row aligned as its array is
+    (:func:`_zeros`).
     """
     return 8 * -(-capacity // 8) + 8
 
