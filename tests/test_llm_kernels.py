@@ -142,3 +142,19 @@ def test_storage_round_trips_in_the_file_layout() -> None:
     np.testing.assert_array_equal(fast.matrices_, arrays["matrices"])
     arrays["matrices"][0, 0, 0] += 1.0  # copies: the map is untouched
     np.testing.assert_array_equal(fast.predict(X, warn=False), before)
+
+
+@pytest.mark.parametrize(("n", "m"), [(1, 1), (1, 4), (3, 1)])
+def test_stored_arrays_are_copies_whatever_their_shape(n: int, m: int) -> None:
+    """to_arrays copies even where a view of the storage would count as contiguous (a dimension of 1)."""
+    rng = np.random.default_rng(n + m)
+    fast = LocalLinearMap(radius=0.2).initialize(rng.uniform(-1, 1, n), rng.normal(size=m))
+    for arrays in (fast.to_arrays(), LocalLinearMap.from_arrays(fast.to_arrays(), radius=0.2).to_arrays()):
+        for name, a in arrays.items():
+            assert a.flags.c_contiguous and a.flags.owndata, name
+    X = rng.uniform(-1, 1, (3, n))
+    before = fast.predict(X, warn=False)
+    arrays = fast.to_arrays()
+    for a in arrays.values():
+        a[...] = 7.0
+    np.testing.assert_array_equal(fast.predict(X, warn=False), before)

@@ -155,9 +155,9 @@ class LocalLinearMap:
     def to_arrays(self) -> dict[str, NDArray[np.float64]]:
         """The learned map as ``prototypes`` (K, n), ``matrices`` (K, m, n), ``offsets`` (K, m) (copies)."""
         return {
-            "prototypes": np.ascontiguousarray(self.prototypes_),
-            "matrices": np.ascontiguousarray(self.matrices_),
-            "offsets": np.ascontiguousarray(self.offsets_),
+            "prototypes": np.array(self.prototypes_, order="C"),
+            "matrices": np.array(self.matrices_, order="C"),
+            "offsets": np.array(self.offsets_, order="C"),
         }
 
     @classmethod
