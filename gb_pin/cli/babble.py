@@ -153,7 +153,8 @@ def run(args: argparse.Namespace) -> int:
     # robot fails here, before the kernels compile.
     init, robot = _read_continue(args) if args.continue_from else (None, None)
     if init is None and not args.resume:
-        robot = robot_argument(args, targets=goal_args.get("targets"))
+        given_targets = goal_args.get("targets")  # a workspace region is no model's goal set: onboarding runs
+        robot = robot_argument(args, targets=None if isinstance(given_targets, str) else given_targets)
     for line in onboarding_lines(robot):
         print(line, flush=True)
     if not args.resume:
@@ -350,6 +351,11 @@ def _print_summary(
         errors = task_errors(result.model, result.target, result.targets)
         for line in errors.summary(getattr(result.target, "component_labels", None)).splitlines():
             print(f"  {printable(line, 400)}")  # labels name the model's frames
+    from gb_pin.robot.workspace import is_workspace_spec
+
+    if is_workspace_spec(getattr(args, "targets", None)):
+        # a workspace region: the reach error over its test points (never learnt), docs/WORKSPACE.md
+        print(f"test points      {result.workspace_errors().summary()}")
     print(f"D^home           {result.home_distance:.4f} rad")
     print(f"prototypes       {result.n_prototypes}")
     if result.missing:
@@ -357,7 +363,10 @@ def _print_summary(
     reach = result.history.reach
     watched = getattr(args, "plant", None) or getattr(args, "sensor", None) or result.missing
     if watched and reach is not None and reach.size and math.isfinite(float(reach[-1])):
-        print(f"reach (observed) {reach[-1]:.5f} m   median miss at the end of the last goal movements")
+        print(
+            f"reach (observed) {reach[-1]:.5f} m   median miss of the last goal movements, "
+            "less the noise's share"
+        )
     steps_before, wall_before = before
     steps = result.steps - steps_before
     per_step = f"{1e6 * (result.wall_time - wall_before) / steps:.2f} us/step" if steps > 0 else "no steps"

@@ -15,6 +15,7 @@ import numpy as np
 
 from gb_pin._points import read_points
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.robot.workspace import WorkspaceRegion, is_workspace_spec
 
 
 def add_goal_options(parser: argparse.ArgumentParser, *, until: bool = True) -> None:
@@ -27,7 +28,10 @@ def add_goal_options(parser: argparse.ArgumentParser, *, until: bool = True) -> 
         "(e.g. uniform:snap=0.05); docs/GOALS.md",
     )
     parser.add_argument(
-        "--targets", default=None, help="goal set X*: a .csv (one point per row) or .npy file"
+        "--targets",
+        default=None,
+        help="goal set X*: a .csv (one point per row) or .npy file; or a region of the arm's reach, "
+        "workspace:fraction=0.5 (goals and test points from half of every joint's range; docs/WORKSPACE.md)",
     )
     parser.add_argument(
         "--eval-targets",
@@ -57,7 +61,10 @@ def goal_values(args: argparse.Namespace, *, as_lists: bool = False) -> dict[str
         out["goals"] = args.goals
     for option, key in (("--targets", "targets"), ("--eval-targets", "eval_targets")):
         path = getattr(args, key)
-        if path is not None:
+        if key == "targets" and is_workspace_spec(path):
+            WorkspaceRegion.parse(path)  # checked here, before any work
+            out[key] = path
+        elif path is not None:
             points = read_points(path, option)
             out[key] = points.tolist() if as_lists else points
     until = getattr(args, "until_error", None)

@@ -15,6 +15,7 @@ from gb_pin.cli.options import (
     onboarding_lines,
     robot_argument,
 )
+from gb_pin.exceptions import InvalidArgumentError
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -38,10 +39,16 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         help="fig3, fig4, fig5, fig6, fig7, fig8, throughput or all; or goals: the goal generators of "
         "docs/GOALS.md (E^X on a test grid, 20 trials; cached in OUT/trials; --scheduler, --fresh unused); "
         "or hardware: mis-calibrated arms, URDF IK vs learned vs feedback (docs/HARDWARE.md; --trials "
-        "arms per robot, default 20; --robots)",
+        "arms per robot, default 20; --robots); or workspace: half of every joint's range "
+        "(docs/WORKSPACE.md; --trials seeds, default 10; --robots; --fractions)",
     )
     p.add_argument(
         "--robots", default=None, help="hardware: comma-separated robots (default so101,so100,panda)"
+    )
+    p.add_argument(
+        "--fractions",
+        default=None,
+        help="workspace: comma-separated fractions of the joint ranges (default 0.25,0.5)",
     )
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
     p.add_argument(
@@ -88,6 +95,25 @@ def run(args: argparse.Namespace) -> int:
         )  # fmt: skip
         print(f"wrote {len(files)} files to {args.out} (see hardware.md)")
         return 0
+    if args.figures == ["workspace"]:
+        from gb_pin.reproduce.workspace import FRACTIONS, run_workspace
+        from gb_pin.reproduce.workspace import ROBOTS as WORKSPACE_ROBOTS
+
+        robots = WORKSPACE_ROBOTS if args.robots is None else tuple(comma_list(args.robots))
+        try:
+            fractions = (
+                FRACTIONS if args.fractions is None else tuple(float(v) for v in comma_list(args.fractions))
+            )
+        except ValueError as exc:
+            raise InvalidArgumentError(
+                f"--fractions must be numbers in (0, 1], got {args.fractions!r}"
+            ) from exc
+        files = run_workspace(
+            args.out, robots=robots, fractions=fractions, seeds=10 if args.trials is None else args.trials,
+            movements=args.movements, workers=args.workers, fresh=args.fresh, progress=not args.quiet,
+        )  # fmt: skip
+        print(f"wrote {len(files)} files to {args.out} (see workspace.md)")
+        return 0
     if args.figures == ["goals"]:
         from gb_pin.reproduce.goals import ROBOTS, goal_study
 
@@ -105,8 +131,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {len(files)} files to {args.out} (see goals.md)")
         return 0
     if args.robot is not None or args.frame is not None:
-        from gb_pin.exceptions import InvalidArgumentError
-
         raise InvalidArgumentError(
             "--robot: only with `reproduce goals`; the paper's figures are of its planar arms"
         )

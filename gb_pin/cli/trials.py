@@ -68,7 +68,10 @@ def run(args: argparse.Namespace) -> int:
     check.movements("--movements", args.movements, minimum=1)
     checks.outputs(args, json="--json", checkpoint="--checkpoint")
     goal_args = goal_values(args, as_lists=True)
-    robot = robot_argument(args, "planar5", goal_args.get("targets"))  # each worker builds it again
+    given = goal_args.get("targets")  # a workspace region is not the model's goal set
+    robot = robot_argument(
+        args, "planar5", None if isinstance(given, str) else given
+    )  # each worker builds it again
     for line in onboarding_lines(robot):
         print(line, flush=True)
     start = time.perf_counter()

@@ -57,7 +57,11 @@ def check_parameters(parameters: Mapping[str, Any], what: str = "babble argument
         make_goals(goals)
     for key in ("targets", "eval_targets"):
         value = parameters.get(key)
-        if value is not None:
+        if key == "targets" and isinstance(value, str):
+            from gb_pin.robot.workspace import WorkspaceRegion
+
+            WorkspaceRegion.parse(value)  # a workspace region travels as its spec
+        elif value is not None:
             arr = np.asarray(value, dtype=object)
             try:
                 ok = (
@@ -136,7 +140,7 @@ def robot_label(robot: Any) -> str:
 
 
 def _label(key: str, value: Any) -> str:
-    if key in ("targets", "eval_targets") and value is not None:
+    if key in ("targets", "eval_targets") and value is not None and not isinstance(value, str):
         return f"{key}=<{len(value)} points>"
     return (
         f"{key}={value:g}"

@@ -195,7 +195,8 @@ class AskTell:
             self._x[:] = arr
         self.pending = False
         st = self.state
-        return bool(tell_step(st.rng, self._learner, self._run, self._rec, arr is not None) == MOVEMENT_DONE)
+        status = tell_step(st.rng, self._learner, self._limits, self._run, self._rec, arr is not None)
+        return bool(status == MOVEMENT_DONE)
 
     def sync(self) -> None:
         """Bring the map's Python side up to the compiled counters (before reading or saving it)."""

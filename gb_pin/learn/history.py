@@ -24,10 +24,13 @@ class History:
         components: (T, C) for a stacked task: E^X split by task component ([m] for a
             position, [deg] for an orientation or pointing direction; see
             :mod:`gb_pin.learn.component_metrics`); None for the paper's position task.
-        reach: (T,) the free measure of progress [m]: the median reach error ||x_L - x*_L|| the
-            robot observed at the end of its last goal-directed movements (a window of 50 by
-            default), measured with no extra movement; it includes the sensor's noise. NaN before
-            the first such movement; None in files written before it existed.
+        reach: (T,) the free measure of progress [m]: the median reach error the robot observed
+            at the end of its last goal-directed movements (a window of 50 by default), less the
+            exploration noise's share estimated with the learned Jacobian, ||x_L - W^+ delta -
+            x*_L|| (:func:`gb_pin.learn.loop.noise_free_reach`), measured with no extra movement;
+            it includes the sensor's noise. NaN before the first such movement; None in files
+            written before it existed. (Before gb_pin 0.x's issue 30 it was ||x_L - x*_L||, which
+            the exploration dominates: it rose while E^X fell.)
     """
 
     movements: NDArray[np.int64]

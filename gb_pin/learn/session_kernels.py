@@ -106,7 +106,7 @@ def ask_step(rng, learner, limits, run, goals, rec):  # type: ignore[no-untyped-
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def tell_step(rng, learner, run, rec, observed):  # type: ignore[no-untyped-def]
+def tell_step(rng, learner, limits, run, rec, observed):  # type: ignore[no-untyped-def]
     """The second half of a step, with the observed position in ``run.motion.x`` (Eqs. 4-6, 8).
 
     ``observed`` False: the reading is missing; nothing is learnt from the step, the noise
@@ -159,7 +159,7 @@ def tell_step(rng, learner, run, rec, observed):  # type: ignore[no-untyped-def]
     counters[STEP] = step
     counters[STEPS] += 1
     if step == L:
-        end_movement(counters, mo, run.reach, kind, observed)
+        end_movement(counters, mo, run.reach, kind, observed, learner, limits.lower, limits.upper)
         return MOVEMENT_DONE
     return STEP_DONE
 
@@ -178,5 +178,5 @@ def kernel_movement(rng, learner, limits, run, goals, rec, forward):  # type: ig
         if status != DONE:
             return status
         forward(run.motion.q, run.motion.x)
-        if tell_step(rng, learner, run, rec, True) == MOVEMENT_DONE:
+        if tell_step(rng, learner, limits, run, rec, True) == MOVEMENT_DONE:
             return MOVEMENT_DONE

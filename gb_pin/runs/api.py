@@ -49,7 +49,7 @@ def babble(
     radius: float | None = None,
     path_length: int | None = None,
     p_home: float | None = None,
-    targets: ArrayLike | None = None,
+    targets: ArrayLike | str | None = None,
     eval_targets: ArrayLike | None = None,
     schedule: ArrayLike | None = None,
     callback: Callable[[int], Any] | None = None,
@@ -92,7 +92,10 @@ def babble(
         targets: target set X* (N, n) [m], where the goals come from; default the robot's, or
             for a target without one the ``"auto"`` grid (:meth:`KinematicTarget.auto_targets`).
             Generators that need no goal set (``"directions"``, ``"motor"``) use it only as the
-            default evaluation set.
+            default evaluation set. ``"workspace:fraction=0.5"``: a region of the arm's own reach
+            (:mod:`gb_pin.robot.workspace`), its test points the default ``eval_targets`` and a
+            curriculum from home outwards the default goals. Targets other than the robot's scale
+            the radius, sigma and direction step not given (:mod:`gb_pin.runs.scaling`).
         eval_targets: the test set where E^X (Eq. 9) and D^home (Eq. 10) are measured, (M, n)
             [m]; default ``targets`` (the paper: the goal set is the test set).
         schedule: movement counts at which to record E^X and D^home.

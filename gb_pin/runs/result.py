@@ -125,6 +125,20 @@ class BabbleResult:
 
         return task_errors(self.model, self.target, self.targets)
 
+    def workspace_errors(self) -> Any:
+        """The final reach error of every test point (``targets``), as median, 90 % and coverage.
+
+        For ``targets="workspace:..."`` these are the region's test points, never learnt
+        (docs/WORKSPACE.md). The error is over the whole task vector, on the robot's model.
+
+        Returns:
+            A :class:`~gb_pin.learn.reach_errors.ReachErrors` (``.median``, ``.p90``, ``.coverage``,
+            ``.errors``, ``.summary()``).
+        """
+        from gb_pin.learn.reach_errors import ReachErrors
+
+        return ReachErrors.of(self.task_errors().total)
+
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""
         write_result(self, path)

@@ -28,6 +28,7 @@ from gb_pin.robot.function import FunctionTarget
 from gb_pin.robot.presets import get_preset, load_robot
 from gb_pin.robot.spec import is_robot_spec, load_robot_spec
 from gb_pin.robot.target import KinematicTarget
+from gb_pin.runs.scaling import scaled_spec
 from gb_pin.runs.spec import RunSpec
 from gb_pin.sim.spec import is_plant_spec
 
@@ -218,6 +219,9 @@ def prepare(spec: RunSpec) -> Prepared:
         InvalidArgumentError: a bad robot, movement count, target set, hyperparameter or seed.
     """
     target, name, defaults = resolve_robot(spec.robot)
+    spec = scaled_spec(
+        spec, target, defaults
+    )  # a workspace region as points; radius and sigma follow the goals
     X = target_set(target, spec.targets)  # checked; warns about targets beyond reach
     learner = make_learner(defaults, spec.hyperparameters())
     rng, int_seed = generator(spec.seed, spec.init)

@@ -46,7 +46,10 @@ class RunSpec:
         radius: prototype radius d [m] (None: the preset's, else 0.1).
         path_length: L, steps per movement (None: 25).
         p_home: probability of a home return (None: 0.1).
-        targets: the goal set X* (N, n) [m]; default the robot's, else its "auto" grid.
+        targets: the goal set X* (N, n) [m]; default the robot's, else its "auto" grid; or a
+            workspace region, ``"workspace:fraction=0.5"`` (:mod:`gb_pin.robot.workspace`: goals
+            and separate test points from the arm's own reach). Targets other than the robot's
+            scale the radius, sigma and direction step not given (:mod:`gb_pin.runs.scaling`).
         eval_targets: the test set of E^X and D^home (M, n) [m]; default ``targets``.
         schedule: movement counts at which E^X, D^home and the reach median are recorded.
         record: which steps to record (:class:`~gb_pin.learn.history.Recording`).
@@ -71,7 +74,7 @@ class RunSpec:
     radius: float | None = None
     path_length: int | None = None
     p_home: float | None = None
-    targets: ArrayLike | None = None
+    targets: ArrayLike | str | None = None
     eval_targets: ArrayLike | None = None
     schedule: ArrayLike | None = None
     record: Recording | None = None
@@ -94,6 +97,10 @@ class RunSpec:
             )
         if self.goals is not None:
             make_goals(self.goals)  # an unknown name or parameter is refused now
+        if isinstance(self.targets, str):
+            from gb_pin.robot.workspace import WorkspaceRegion
+
+            WorkspaceRegion.parse(self.targets)  # a malformed region is refused now
         if self.changes is not None:
             if not isinstance(self.changes, dict):
                 raise InvalidArgumentError(
@@ -160,7 +167,9 @@ class RunSpec:
             args["goals"] = self.goals
         for key in ("targets", "eval_targets"):
             value = getattr(self, key)
-            if value is not None:
+            if isinstance(value, str):
+                args[key] = value  # a workspace region travels as its spec
+            elif value is not None:
                 args[key] = np.asarray(value, dtype=float).tolist()
         return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
 

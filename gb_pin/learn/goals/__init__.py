@@ -8,6 +8,7 @@ from typing import Any
 from gb_pin._names import closest, suggest
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.goals.base import GoalArrays, GoalGenerator, PythonGoals
+from gb_pin.learn.goals.curriculum import CurriculumGoals
 from gb_pin.learn.goals.cyclic import CyclicGoals
 from gb_pin.learn.goals.directions import DirectionGoals
 from gb_pin.learn.goals.error import ErrorGoals
@@ -18,7 +19,15 @@ from gb_pin.learn.goals.uniform import UniformGoals
 # name -> class, for goals="uniform" and for rebuilding a generator from a checkpoint.
 GOAL_GENERATORS: dict[str, type[GoalGenerator]] = {
     cls.name: cls
-    for cls in (UniformGoals, CyclicGoals, DirectionGoals, ErrorGoals, ProgressGoals, MotorGoals)
+    for cls in (
+        UniformGoals,
+        CyclicGoals,
+        DirectionGoals,
+        ErrorGoals,
+        ProgressGoals,
+        MotorGoals,
+        CurriculumGoals,
+    )
 }
 
 
@@ -82,6 +91,7 @@ def _parse_params(name: str, text: str) -> dict[str, Any]:
 
 __all__ = [
     "GOAL_GENERATORS",
+    "CurriculumGoals",
     "CyclicGoals",
     "DirectionGoals",
     "ErrorGoals",

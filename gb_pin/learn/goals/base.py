@@ -32,6 +32,7 @@ DIRECTIONS = 2
 ERROR = 3
 PROGRESS = 4
 MOTOR = 5
+CURRICULUM = 6
 
 # params[SNAP] of every generator: the lag threshold of the snap-back (inf: off).
 SNAP = 0

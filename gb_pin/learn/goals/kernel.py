@@ -18,7 +18,16 @@ from numba import types
 from numba.extending import overload
 
 from gb_pin._jit import njit
-from gb_pin.learn.goals.base import CYCLIC, ERROR, SNAP, UNIFORM, DirectionArrays, MotorArrays, SelectorArrays
+from gb_pin.learn.goals.base import (
+    CURRICULUM,
+    CYCLIC,
+    ERROR,
+    SNAP,
+    UNIFORM,
+    DirectionArrays,
+    MotorArrays,
+    SelectorArrays,
+)
 from gb_pin.learn.goals.directions import DISTANCE
 from gb_pin.learn.goals.draw import uniform_index
 from gb_pin.learn.goals.motor import SPREAD
@@ -65,9 +74,26 @@ def _paper_goal(goals, rng, out):  # type: ignore[no-untyped-def]
     elif goals.kind == CYCLIC:
         k = goals.istate[0]
         goals.istate[0] = (k + 1) % targets.shape[0]
+    elif goals.kind == CURRICULUM:
+        k = _curriculum_index(goals, rng)
     else:
         return False
     return _copy_target(goals, k, out)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _curriculum_index(goals, rng):  # type: ignore[no-untyped-def]
+    """A target drawn uniformly from the current stage's block (:mod:`gb_pin.learn.goals.curriculum`)."""
+    stages = int(goals.params[1])
+    count = goals.istate[0]
+    s = 0
+    end = goals.params[2]
+    while s < stages - 1 and count >= end:
+        s += 1
+        end *= goals.params[3]
+    goals.istate[0] = count + 1
+    block = goals.targets.shape[0] // stages
+    return s * block + uniform_index(rng, block)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")

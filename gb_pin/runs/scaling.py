@@ -1,0 +1,147 @@
+"""Learner settings that follow the target set in use: radius, sigma and direction step scale with L.
+
+A preset's radius and sigma (and onboarding's) were chosen for its own goal grid, a few
+centimetres around home. A run given another target set (an array at ``babble`` time, or a
+workspace region: ``targets="workspace:fraction=0.5"``) takes, for each setting not given:
+
+- radius d = :data:`RADIUS_SHARE` L, L the extent of the goals (the diagonal of their 5-95 %
+  percentile box, :func:`gb_pin.robot.workspace.extent`): 0.05-0.12 L was the useful band in
+  the reference measurements, 0.08 L the best single value (docs/WORKSPACE.md);
+- sigma: Eq. 12's, capped as onboarding caps it (:func:`gb_pin.robot.onboarding.exploration_sigma`:
+  the exploration at home within half the half-width L / (2 sqrt(n)) of the set); for a workspace
+  region :data:`REGION_SIGMA_GAIN` times that (measured: fewer misses near the joint limits);
+- the direction step of ``goals="directions"`` (when its ``distance`` is not given):
+  :data:`DIRECTION_SHARE` L.
+
+For a workspace region these values are taken as they are. For a target array given at ``babble``
+time they only grow: each setting is the larger of the robot's own (its preset's, onboarding's,
+else the paper's) and the scaled one, since the robot's were measured for its own goal set and
+still serve a smaller one (the paper's planar arms learn 4 targets with radius 0.1 as well as 25),
+while a larger set drowns in a radius chosen for a few centimetres (the human arm of
+example-robot-data onboarded with radius 0.028 m for its 7 cm grid, given targets 40 cm across:
+E^X / E_0 0.047-0.15 against 0.026-0.028 with the scaled radius, docs/WORKSPACE.md).
+
+A run with the robot's own targets (a preset's default run) is left as it was: its fingerprint is
+unchanged. Explicit values always win.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from gb_pin.learn.config import default_sigma
+from gb_pin.learn.goals import CurriculumGoals, DirectionGoals, make_goals
+from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec
+from gb_pin.runs.spec import RunSpec
+
+RADIUS_SHARE = 0.08  # prototype radius d, a share of the goal set's extent L
+REGION_SIGMA_GAIN = 2.0  # sigma of a workspace region: this times Eq. 12's (capped)
+DIRECTION_SHARE = 0.1  # direction sampling's step D, a share of L
+
+
+def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = None) -> RunSpec:
+    """``spec`` with a workspace region turned into point sets and the settings scaled to the goals.
+
+    Unchanged when the run learns the robot's own targets (or continues a run: ``init``).
+    ``defaults``: the robot's learner defaults (a preset's, onboarding's), the floor of the
+    settings scaled to a given target array.
+
+    Raises:
+        InvalidArgumentError: a malformed workspace spec, or a robot without forward kinematics.
+    """
+    region = WorkspaceRegion.parse(str(spec.targets)) if is_workspace_spec(spec.targets) else None
+    changes: dict[str, Any] = {}
+    if region is not None:
+        generator = make_goals(spec.goals) if spec.goals is not None else None
+        blocks = region.stages > 1 and (
+            generator is None
+            or (isinstance(generator, CurriculumGoals) and generator.stages == region.stages)
+        )
+        goals = region.goal_points(target) if blocks else region.final_goals(target)
+        changes["targets"] = goals
+        if spec.goals is None and blocks:
+            changes["goals"] = f"curriculum:stages={region.stages}"
+        if spec.eval_targets is None:
+            changes["eval_targets"] = region.test_set(target)
+        L = extent(goals[-region.points :])
+    elif spec.targets is None or spec.init is not None or _same(spec.targets, _own_targets(target)):
+        return spec
+    else:
+        L = extent(np.asarray(spec.targets, dtype=float))
+    if not L > 0.0:
+        return spec.replace(**changes)
+    floor = _floors(target, defaults or {}) if region is None else {}
+    if spec.radius is None:
+        changes["radius"] = max(RADIUS_SHARE * L, floor.get("radius", 0.0))
+    if spec.sigma is None:
+        sigma = scaled_sigma(target, L, REGION_SIGMA_GAIN if region is not None else 1.0)
+        if sigma is not None:
+            changes["sigma"] = max(sigma, floor.get("sigma", 0.0))
+    goals_name = changes.get("goals", spec.goals)
+    if (
+        isinstance(goals_name, str)
+        and isinstance(make_goals(goals_name), DirectionGoals)
+        and ("distance=" not in goals_name)
+    ):
+        sep = "," if ":" in goals_name else ":"
+        distance = max(DIRECTION_SHARE * L, floor.get("distance", 0.0))
+        changes["goals"] = f"{goals_name}{sep}distance={distance!r}"
+    return spec.replace(**changes)
+
+
+def _floors(target: Any, defaults: dict[str, Any]) -> dict[str, float]:
+    """The robot's own radius, sigma and direction step: what a given target array scales up from."""
+    from gb_pin.learn.config import BY_NAME
+
+    home = getattr(target, "home", getattr(getattr(target, "target", None), "home", None))
+    radius: Any = defaults.get("radius", BY_NAME["radius"].default)
+    out = {"radius": float(radius),
+           "distance": DirectionGoals().distance}  # fmt: skip
+    sigma: Any = defaults.get("sigma")
+    if sigma is None and home is not None:
+        sigma = default_sigma(int(np.asarray(home).shape[0]))
+    if sigma is not None:
+        out["sigma"] = float(sigma)
+    return out
+
+
+def scaled_sigma(target: Any, L: float, gain: float = 1.0) -> float | None:
+    """``gain`` times Eq. 12's sigma, capped to keep the exploration at home within the set (None: no model).
+
+    The cap is onboarding's (:func:`~gb_pin.robot.onboarding.exploration_sigma`) for a goal set of
+    half-width L / (2 sqrt(n)); a robot without a compiled chain gets ``gain`` times Eq. 12's.
+    """
+    model = target if hasattr(target, "chain") else getattr(target, "target", None)
+    home = getattr(model, "home", getattr(target, "home", None))
+    if home is None:
+        return None
+    m = int(np.asarray(home).shape[0])
+    paper = gain * default_sigma(m)
+    if model is None or not hasattr(model, "chain"):
+        return paper
+    from gb_pin.robot.onboarding import exploration_sigma
+
+    n = int(model.n_task)
+    half_width = L / (2.0 * math.sqrt(n)) / gain
+    capped = exploration_sigma(model, half_width)
+    return paper if capped is None else gain * capped
+
+
+def _own_targets(target: Any) -> Any:
+    own = getattr(target, "targets", None)
+    if own is None and hasattr(target, "target"):
+        own = getattr(target.target, "targets", None)
+    return own
+
+
+def _same(given: Any, own: Any) -> bool:
+    if own is None:
+        return False
+    try:
+        a = np.asarray(given, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return a.shape == np.shape(own) and bool(np.array_equal(a, own))
