@@ -1,0 +1,193 @@
+"""Workspace regions, curriculum goals, settings scaled to the goal set, the noise-free reach (issue 30)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import gb_pin
+from gb_pin.cli import main
+from gb_pin.learn.config import default_sigma
+from gb_pin.learn.goals import CurriculumGoals, make_goals
+from gb_pin.learn.goals.curriculum import stage_of
+from gb_pin.learn.reach_errors import ReachErrors
+from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec, region_postures
+from gb_pin.runs.scaling import RADIUS_SHARE, REGION_SIGMA_GAIN, scaled_sigma
+
+
+def test_region_specs_parse_round_trip_and_refuse_bad_values() -> None:
+    region = WorkspaceRegion.parse("workspace:fraction=0.25,points=40,seed=3,test_seed=4,stages=2")
+    assert (region.fraction, region.points, region.seed, region.test_seed, region.stages) == (
+        0.25,
+        40,
+        3,
+        4,
+        2,
+    )
+    assert (
+        WorkspaceRegion.parse(region.spec()) == region
+        and WorkspaceRegion.parse("workspace") == WorkspaceRegion()
+    )
+    assert (
+        is_workspace_spec("workspace:fraction=0.5")
+        and not is_workspace_spec("workspaces")
+        and not is_workspace_spec(1)
+    )
+    for bad, match in (("workspace:fraction=0", "fraction"), ("workspace:fraction=1.5", "fraction"),
+                       ("workspace:points=0", "points"), ("workspace:size=3", "key"),
+                       ("workspace:fraction=half", "not a number"), ("workspace:seed=-1", "seed")):  # fmt: skip
+        with pytest.raises(gb_pin.InvalidArgumentError, match=match):
+            WorkspaceRegion.parse(bad)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="fraction"):
+        gb_pin.babble("so101", movements=10, targets="workspace:fraction=2")
+
+
+def test_region_postures_are_uniform_windows_around_home_within_the_limits() -> None:
+    """Each joint's window is f of its range, centred on home, shifted inside the limits: nothing piles up."""
+    arm = gb_pin.load_robot("panda")
+    u = np.random.default_rng(0).random((4000, arm.n_joints))
+    for f in (0.25, 0.5, 1.0):
+        Q = region_postures(arm, f, u)
+        assert np.all(Q >= arm.lower) and np.all(Q <= arm.upper)
+        width = Q.max(axis=0) - Q.min(axis=0)
+        np.testing.assert_allclose(width, f * (arm.upper - arm.lower), rtol=0.01)
+        assert np.all(np.mean(np.isclose(Q, arm.lower) | np.isclose(Q, arm.upper), axis=0) < 0.01)
+        inside = (Q.min(axis=0) <= arm.home) & (arm.home <= Q.max(axis=0))
+        assert inside.all()
+
+
+def test_region_points_goals_tests_and_curriculum_blocks() -> None:
+    """FK of the postures; test points from another seed; blocks grow from home outwards."""
+    arm = gb_pin.load_robot("so101")
+    region = WorkspaceRegion(fraction=0.5, points=200, test_points=150)
+    goals, tests = region.goal_points(arm), region.test_set(arm)
+    assert goals.shape == (600, 3) and tests.shape == (150, 3)
+    np.testing.assert_array_equal(goals[400:], region.final_goals(arm))
+    assert not np.isin(tests, goals).all(axis=1).any()
+    spread = [
+        np.median(np.linalg.norm(goals[i * 200 : (i + 1) * 200] - arm.home_position, axis=1))
+        for i in range(3)
+    ]
+    assert spread[0] < spread[1] < spread[2]
+    u = np.random.default_rng(0).random((200, arm.n_joints))
+    np.testing.assert_allclose(region.final_goals(arm), arm.forward(region_postures(arm, 0.5, u)))
+
+
+def test_extent_is_the_diagonal_of_the_5_95_percent_box() -> None:
+    X = np.random.default_rng(1).uniform([0, 0, 0], [0.3, 0.4, 1.2], size=(20000, 3))
+    assert extent(X) == pytest.approx(0.9 * np.sqrt(0.3**2 + 0.4**2 + 1.2**2), rel=0.01)
+    with pytest.raises(gb_pin.InvalidArgumentError):
+        extent(np.zeros(3))
+
+
+def test_curriculum_stages_follow_the_goal_count() -> None:
+    assert [stage_of(k, 3, 900, 3.0) for k in (0, 899, 900, 2699, 2700, 10**6)] == [0, 0, 1, 1, 2, 2]
+    assert [stage_of(k, 1, 900, 3.0) for k in (0, 10**6)] == [0, 0]
+    goals = make_goals("curriculum:stages=2,first=10,growth=2")
+    assert isinstance(goals, CurriculumGoals) and goals.get_params()["first"] == 10
+    with pytest.raises(gb_pin.InvalidArgumentError, match="multiple"):
+        goals.start(np.zeros((5, 2)))
+    with pytest.raises(gb_pin.InvalidArgumentError, match="growth"):
+        CurriculumGoals(growth=0.5)
+
+
+def test_the_compiled_curriculum_draws_each_goal_from_its_stage_block() -> None:
+    """The k-th goal-directed movement's goal lies in block stage_of(k) (planar5, three distinct blocks)."""
+    blocks = [np.column_stack([np.full(4, x), np.linspace(-0.2, 0.2, 4)]) for x in (0.4, 0.5, 0.6)]
+    X = np.vstack(blocks)
+    run = gb_pin.babble("planar5", movements=80, seed=2, targets=X, goals="curriculum:stages=3,first=8,growth=3",
+                        radius=0.1, record=gb_pin.Recording(every=1, first=0, last=80))  # fmt: skip
+    rec = run.recording
+    assert rec is not None
+    L = 25
+    ends = rec.target[L - 1 :: L]  # each movement's last target: its goal (NaN for home returns)
+    goals = ends[~np.isnan(ends[:, 0])]
+    assert len(goals) > 60
+    for k, goal in enumerate(goals):
+        assert goal[0] == pytest.approx([0.4, 0.5, 0.6][stage_of(k, 3, 8, 3.0)]), k
+
+
+def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points() -> None:
+    run = gb_pin.babble("so101", movements=60, seed=0, targets="workspace:fraction=0.5")
+    region = WorkspaceRegion()
+    goals = region.goal_points(run.target)
+    assert run.goal_targets is not None
+    np.testing.assert_array_equal(run.goal_targets, goals)
+    np.testing.assert_array_equal(run.targets, region.test_set(run.target))
+    L = extent(goals[-region.points :])
+    assert 0.5 < L < 0.7  # the SO-101's region f = 0.5 (docs/WORKSPACE.md: 0.60 m)
+    assert run.config.radius == pytest.approx(RADIUS_SHARE * L)
+    assert run.config.sigma == pytest.approx(scaled_sigma(run.target, L, REGION_SIGMA_GAIN))
+    assert run.config.sigma <= REGION_SIGMA_GAIN * default_sigma(run.target.n_joints) + 1e-12
+    assert run.goals is not None and "CurriculumGoals" in run.goals
+    errors = run.workspace_errors()
+    assert isinstance(errors, ReachErrors) and errors.errors.shape == (300,)
+    assert errors.mean == pytest.approx(run.error) and errors.median <= errors.p90
+    explicit = gb_pin.babble(
+        "so101", movements=5, radius=0.07, sigma=0.03, targets="workspace", goals="uniform"
+    )
+    assert (explicit.config.radius, explicit.config.sigma) == (
+        0.07,
+        0.03,
+    ) and explicit.goal_targets.shape == (300, 3)
+
+
+def test_own_targets_keep_the_presets_settings_and_given_sets_only_scale_up() -> None:
+    own = gb_pin.babble("so101", movements=5)
+    same = gb_pin.babble("so101", movements=5, targets=own.target.targets)
+    assert own.config == same.config and own.config.radius == 0.04
+    small = gb_pin.babble("so101", movements=5, targets=own.target.targets[:3] * 0.999)
+    assert small.config.radius == 0.04  # the preset's radius is the floor
+    arm = gb_pin.load_robot("so101")
+    wide = WorkspaceRegion(fraction=0.5, points=60).final_goals(arm)
+    big = gb_pin.babble("so101", movements=5, targets=wide)
+    assert big.config.radius == pytest.approx(RADIUS_SHARE * extent(wide)) and big.config.radius > 0.04
+    walk = gb_pin.babble("so101", movements=5, targets=wide, goals="directions")
+    assert (
+        walk.goals == "DirectionGoals(distance=0.2, snap=0.05)"
+    )  # 0.1 L = 0.06 m: the default's 0.2 m stays
+    region = gb_pin.babble(
+        "so101", movements=5, targets="workspace:fraction=0.5", goals="directions:snap=0.05"
+    )
+    L = extent(WorkspaceRegion().final_goals(arm))
+    assert region.goals == f"DirectionGoals(distance={0.1 * L!r}, snap=0.05)"
+
+
+def test_reach_falls_with_the_true_error_on_the_so101_plant() -> None:
+    """The free measure less the noise's share: no longer the exploration's 15-35 mm (docs/WORKSPACE.md)."""
+    for seed in (0, 1):
+        arm = gb_pin.Plant("so101", offset_std=0.05, length_std=0.03, noise=0.0015, loss=0.1, seed=3)
+        run = gb_pin.babble(arm, movements=2000, seed=seed, schedule=[300, 2000])
+        reach, error = run.history.reach, run.history.error
+        assert reach is not None and error[1] < error[0]
+        assert reach[1] < reach[0] and reach[1] < 0.008  # measured 4.6-5.0 mm (observed end: 15-29 mm)
+
+
+def test_trials_and_the_cli_take_a_workspace_region(capsys) -> None:  # type: ignore[no-untyped-def]
+    trials = gb_pin.run_trials("so101", trials=2, movements=30, targets="workspace:fraction=0.25", workers=1)
+    assert trials.error.shape[0] == 2 and trials.parameters["targets"] == "workspace:fraction=0.25"
+    assert (
+        main(["babble", "--robot", "so101", "--movements", "40", "--targets", "workspace:fraction=0.5"]) == 0
+    )
+    assert "test points      median" in capsys.readouterr().out
+    assert main(["babble", "--robot", "so101", "--movements", "5", "--targets", "workspace:fraction=7"]) == 2
+    assert "fraction" in capsys.readouterr().err
+
+
+def test_reproduce_workspace_writes_table_and_figure(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    from gb_pin.reproduce.workspace import Condition, run_workspace
+
+    files = run_workspace(
+        str(tmp_path), robots=("so101",), fractions=(0.5,), seeds=1, movements=3000, workers=1
+    )
+    assert {Path(f).name for f in files} == {"workspace.json", "workspace.md", "workspace_so101.png"}
+    run = json.loads((tmp_path / "workspace.json").read_text())["runs"][0]
+    assert set(run["snapshots"]) == {"3000"} and run["snapshots"]["3000"]["median"] < 0.05
+    assert "| so101 | 0.5 | 1 |" in (tmp_path / "workspace.md").read_text()
+    assert Condition("panda", 0.5, 3).key.startswith("panda_f0.5_s3_")
+    with pytest.raises(gb_pin.InvalidArgumentError):
+        run_workspace(str(tmp_path), robots=("so102",), seeds=1)
