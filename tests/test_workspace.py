@@ -38,7 +38,8 @@ def test_region_specs_parse_round_trip_and_refuse_bad_values() -> None:
     )
     for bad, match in (("workspace:fraction=0", "fraction"), ("workspace:fraction=1.5", "fraction"),
                        ("workspace:points=0", "points"), ("workspace:size=3", "key"),
-                       ("workspace:fraction=half", "not a number"), ("workspace:seed=-1", "seed")):  # fmt: skip
+                       ("workspace:fraction=half", "not a number"),
+                       ("workspace:seed=-1", "seed")):  # fmt: skip
         with pytest.raises(gb_pin.InvalidArgumentError, match=match):
             WorkspaceRegion.parse(bad)
     with pytest.raises(gb_pin.InvalidArgumentError, match="fraction"):
@@ -51,7 +52,7 @@ def test_region_postures_are_uniform_windows_around_home_within_the_limits() -> 
     u = np.random.default_rng(0).random((4000, arm.n_joints))
     for f in (0.25, 0.5, 1.0):
         Q = region_postures(arm, f, u)
-        assert np.all(Q >= arm.lower) and np.all(Q <= arm.upper)
+        assert np.all(arm.lower <= Q) and np.all(arm.upper >= Q)
         width = Q.max(axis=0) - Q.min(axis=0)
         np.testing.assert_allclose(width, f * (arm.upper - arm.lower), rtol=0.01)
         assert np.all(np.mean(np.isclose(Q, arm.lower) | np.isclose(Q, arm.upper), axis=0) < 0.01)
@@ -98,7 +99,8 @@ def test_the_compiled_curriculum_draws_each_goal_from_its_stage_block() -> None:
     """The k-th goal-directed movement's goal lies in block stage_of(k) (planar5, three distinct blocks)."""
     blocks = [np.column_stack([np.full(4, x), np.linspace(-0.2, 0.2, 4)]) for x in (0.4, 0.5, 0.6)]
     X = np.vstack(blocks)
-    run = gb_pin.babble("planar5", movements=80, seed=2, targets=X, goals="curriculum:stages=3,first=8,growth=3",
+    curriculum = "curriculum:stages=3,first=8,growth=3"
+    run = gb_pin.babble("planar5", movements=80, seed=2, targets=X, goals=curriculum,
                         radius=0.1, record=gb_pin.Recording(every=1, first=0, last=80))  # fmt: skip
     rec = run.recording
     assert rec is not None
