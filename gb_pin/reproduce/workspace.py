@@ -44,7 +44,7 @@ class Condition(NamedTuple):
     @property
     def key(self) -> str:
         """The cache file's name: robot, fraction, seed and a hash of every setting that changes numbers."""
-        settings = json.dumps([*self, SNAPSHOTS, "v1"])
+        settings = json.dumps([*self, SNAPSHOTS, "v2"])  # v2: learning rate 0.5 for regions
         digest = hashlib.sha256(settings.encode()).hexdigest()[:12]
         return f"{self.robot.replace(':', '_')}_f{self.fraction:g}_s{self.seed}_{digest}"
 

@@ -64,6 +64,7 @@ def draw_robot(
 ) -> list[str]:
     """Top view, side view (test points coloured by error) and the curves of one robot; returns the files."""
     from matplotlib.colors import LogNorm
+    from matplotlib.ticker import NullLocator
 
     groups = {f: g for (r, f), g in _groups(rows).items() if r == robot}
     fig = new_figure(13.5, 4.2)
@@ -102,6 +103,9 @@ def draw_robot(
             ax_curve.fill_between(counts, *np.percentile(per, [25, 75], axis=0), color=colour, alpha=0.15)
     ax_curve.set_xscale("log")
     ax_curve.set_yscale("log")
+    shown_counts = sorted({int(k) for g in rows for k in g["snapshots"]})
+    ax_curve.set_xticks(shown_counts, [f"{c:,}" for c in shown_counts])
+    ax_curve.xaxis.set_minor_locator(NullLocator())
     ax_curve.set_xlabel("movements")
     ax_curve.set_ylabel("reach error on the test points [mm]")
     ax_curve.grid(alpha=0.3, which="both")

@@ -10,6 +10,11 @@ workspace region: ``targets="workspace:fraction=0.5"``) takes, for each setting 
 - sigma: Eq. 12's, capped as onboarding caps it (:func:`gb_pin.robot.onboarding.exploration_sigma`:
   the exploration at home within half the half-width L / (2 sqrt(n)) of the set); for a workspace
   region :data:`REGION_SIGMA_GAIN` times that (measured: fewer misses near the joint limits);
+- for a workspace region, the learning rate :data:`REGION_LEARNING_RATE` (the paper's 0.1 was
+  chosen for 25 targets and about 50 prototypes; a region's 300-600 prototypes are each updated
+  less often: at 10^4 movements, 3 seeds, SO-101 median / 90 % 3.10 / 19.1 mm at 0.1, 1.74 / 8.5 at
+  0.3, 1.73 / 6.6 at 0.5, 1.90 / 5.7 at 1.0; Panda 6.76 / 151 at 0.1, 6.29 / 84 at 0.3, 7.34 / 85
+  at 0.5);
 - the direction step of ``goals="directions"`` (when its ``distance`` is not given):
   :data:`DIRECTION_SHARE` L.
 
@@ -40,6 +45,7 @@ from gb_pin.runs.spec import RunSpec
 RADIUS_SHARE = 0.08  # prototype radius d, a share of the goal set's extent L
 REGION_SIGMA_GAIN = 2.0  # sigma of a workspace region: this times Eq. 12's (capped)
 DIRECTION_SHARE = 0.1  # direction sampling's step D, a share of L
+REGION_LEARNING_RATE = 0.5  # eta of a workspace region (measured, docs/WORKSPACE.md)
 
 
 def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = None) -> RunSpec:
@@ -74,6 +80,8 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
     if not L > 0.0:
         return spec.replace(**changes)
     floor = _floors(target, defaults or {}) if region is None else {}
+    if region is not None and spec.learning_rate is None:
+        changes["learning_rate"] = REGION_LEARNING_RATE
     if spec.radius is None:
         changes["radius"] = max(RADIUS_SHARE * L, floor.get("radius", 0.0))
     if spec.sigma is None:
