@@ -33,6 +33,7 @@ unchanged. Explicit values always win.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
@@ -76,7 +77,11 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
     elif spec.targets is None or spec.init is not None or _same(spec.targets, _own_targets(target)):
         return spec
     else:
-        L = extent(np.asarray(spec.targets, dtype=float))
+        with warnings.catch_warnings():  # checked here for their extent; target_set warns once after
+            warnings.simplefilter("ignore")
+            L = extent(target.check_targets(spec.targets))
+        if not math.isfinite(L):
+            return spec
     if not L > 0.0:
         return spec.replace(**changes)
     floor = _floors(target, defaults or {}) if region is None else {}

@@ -98,8 +98,13 @@ class RunSpec:
         if self.goals is not None:
             make_goals(self.goals)  # an unknown name or parameter is refused now
         if isinstance(self.targets, str):
-            from gb_pin.robot.workspace import WorkspaceRegion
+            from gb_pin.robot.workspace import WorkspaceRegion, is_workspace_spec
 
+            if not is_workspace_spec(self.targets):
+                raise InvalidArgumentError(
+                    "targets must be an (N, n) array of points [m] or a workspace region "
+                    f"('workspace:fraction=0.5'), got {self.targets!r}"
+                )
             WorkspaceRegion.parse(self.targets)  # a malformed region is refused now
         if self.changes is not None:
             if not isinstance(self.changes, dict):
