@@ -63,7 +63,15 @@ OVERSIZED = np.stack(
 
 
 def test_names_and_parameters_are_parsed_and_checked() -> None:
-    assert set(GOAL_GENERATORS) == {"uniform", "cyclic", "directions", "error", "progress", "motor", "curriculum"}
+    assert set(GOAL_GENERATORS) == {
+        "uniform",
+        "cyclic",
+        "directions",
+        "error",
+        "progress",
+        "motor",
+        "curriculum",
+    }
     g = make_goals("progress:snap=0.1,uniform_share=0.3")
     assert isinstance(g, ProgressGoals) and g.snap == 0.1 and g.uniform_share == 0.3
     assert math.isinf(make_goals("directions:snap=none").snap)
