@@ -15,7 +15,7 @@ import argparse
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError
 
 if TYPE_CHECKING:
     from gb_pin.learn.config import Hyperparameter
@@ -282,4 +282,15 @@ def onboarding_lines(robot: Any) -> list[str]:
     given["sigma"] = "--sigma"
     options = ", ".join(given[c] for c in record.chosen)
     head = f"chosen           by measurement (give {options} to choose yourself):"
+    if "targets" in record.chosen:
+        from gb_pin.robot.workspace import WorkspaceRegion, extent
+
+        try:
+            L = extent(WorkspaceRegion().final_goals(robot))
+            lines.append(
+                "or        --targets workspace:fraction=0.5: the hand positions of half of every joint's "
+                f"range ({L:.2f} m across) instead of this grid (docs/WORKSPACE.md)"
+            )
+        except GbPinError:  # a model whose region cannot be drawn: the grid alone
+            pass
     return [head, *(f"  {line}" for line in lines)]
