@@ -74,7 +74,7 @@ class FeetechArm:
         tolerance: float = math.radians(1.0),
         timeout: float = 2.0,
         reply_timeout: float = 0.02,
-        retries: int = 5,
+        retries: int = 8,
         on_stop: str = "hold",
         stop: threading.Event | None = None,
         park_speed: float = 0.5,
@@ -149,6 +149,7 @@ class FeetechArm:
             self.bus.write(servo, p.TORQUE_ENABLE, 1)
         q = self.calibration.radians(self.kind, present)
         self.command = q[self.learned].copy()
+        self._full = q.copy()  # all six joints' last command; wrist roll and gripper go to held in steps
         self._goal = present.copy()
 
     # -- reading -----------------------------------------------------------------------------
@@ -204,14 +205,16 @@ class FeetechArm:
         self._check_open()
         arr = self.check(q)
         self._guard()
-        full = self.held.copy()
+        full = self._full.copy()
+        step = np.inf if self.max_joint_step is None else self.max_joint_step
+        full = full + np.clip(self.held - full, -step, step)  # held joints: toward where the preset locks them
         full[self.learned] = arr
         goal = self.calibration.ticks(self.kind, full)
         lo, hi = self.calibration.range_min, self.calibration.range_max
         goal = np.clip(goal, lo, hi)  # rounding at a limit stays inside the calibrated range
         try:
             self.bus.sync_write(p.GOAL_POSITION, dict(zip(self.ids, goal.tolist(), strict=True)))
-            self.command, self._goal = arr, goal
+            self.command, self._goal, self._full = arr, goal, full
             present = self._settle(goal)
         except BaseException:
             self._stop_now()
@@ -225,7 +228,9 @@ class FeetechArm:
         target = check.vector("q", q, 4)
         step = step or self.max_joint_step or 0.05
         start = self.command.copy()
-        n = max(1, math.ceil(float(np.abs(target - start).max()) / step - 1e-9))
+        held = [k for k in range(6) if k not in self.learned]
+        distance = max(float(np.abs(target - start).max()), float(np.abs(self.held - self._full)[held].max()))
+        n = max(1, math.ceil(distance / step - 1e-9))
         reached = start
         for i in range(1, n + 1):
             reached = self.move(start + (target - start) * (i / n))

@@ -9,7 +9,7 @@ receive loop cannot tell a reply to this request from one to the last.
 Each transaction here: flush the input, write the request, read exactly the bytes the expected
 replies take (one read with a deadline), and check each reply's header, id (in the order asked),
 length and checksum. Any fault (timeout, wrong id, bad length or checksum) counts, and the
-transaction is tried again after a back-off (``reply_timeout`` x 2, 4, 8 ...) long enough for a
+transaction is tried again after a back-off (``reply_timeout`` x 2, 4, 8 ..., at most 0.5 s) long enough for a
 late reply to arrive and be flushed before the next request; after ``retries`` the bus gives up
 with a :class:`~gb_pin.exceptions.HardwareError` naming the port and servo.
 """
@@ -49,7 +49,7 @@ class FeetechBus:
         baudrate: int = 1_000_000,
         *,
         reply_timeout: float = 0.02,
-        retries: int = 5,
+        retries: int = 8,
         names: dict[int, str] | None = None,
     ) -> None:
         self.port = str(port)
@@ -105,6 +105,9 @@ class FeetechBus:
             if chunk[4]:
                 self.faults["status_error"] += 1  # voltage, angle, overheat, overcurrent or overload
             out.append(bytes(chunk[5:-1]))
+        if self.serial.in_waiting:  # more than the replies asked for: a late reply came first
+            self.faults["extra_bytes"] += 1
+            return servos[-1]
         return out
 
     def _transact(self, request: bytes, servos: Sequence[int], size: int, what: str) -> list[bytes]:
@@ -112,7 +115,7 @@ class FeetechBus:
         for attempt in range(self.retries + 1):
             if attempt:
                 self.faults["retry"] += 1
-                time.sleep(self.reply_timeout * 2**attempt)  # a late reply arrives now, and is flushed
+                time.sleep(min(self.reply_timeout * 2**attempt, 0.5))  # a late reply arrives now, and is flushed
             self._send(request)
             got = self._receive(servos, size)
             if not isinstance(got, int):

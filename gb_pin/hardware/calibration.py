@@ -68,6 +68,11 @@ def load_calibration(source: str | os.PathLike[str] | dict[str, Any], kind: ArmK
         InvalidArgumentError: no such file, not JSON, motors missing or of another arm, a field
             missing or out of range, ids repeated or not the arm's.
     """
+    if not isinstance(source, (dict, str, os.PathLike)):
+        raise InvalidArgumentError(
+            f"calibration must be a LeRobot calibration file or its dict, expected "
+            f"{{motor: {{{', '.join(FIELDS)}}}}}, got {source!r:.80}"
+        )
     where = "<dict>" if isinstance(source, dict) else os.fspath(source)
     if isinstance(source, dict):
         data: Any = source
