@@ -56,27 +56,32 @@ def goal_writes(stats: dict, arm: FeetechArm) -> dict:
 
 
 def one_arm(seed: int, args: argparse.Namespace) -> dict:
+    """Learn on one emulated arm, then reach the test grid by the learned inverse and by URDF IK."""
     faults = {"drop": 0.01, "late": 0.005, "late_delay": 1.6 * args.reply_timeout} if args.faults else {}
-    with Emulator(robot=args.robot, seed=seed, speed=args.speed, **faults) as bus:
-        with FeetechArm(bus.port, args.robot, bus.calibration, max_joint_step=args.step,
-                        reply_timeout=args.reply_timeout) as arm:  # fmt: skip
-            start = time.perf_counter()
-            def progress(r: int) -> None:
-                if r % 250 == 0:
-                    print(f"arm {seed}: {r} movements, {time.perf_counter() - start:.0f} s", flush=True)
+    with (
+        Emulator(robot=args.robot, seed=seed, speed=args.speed, **faults) as bus,
+        FeetechArm(bus.port, args.robot, bus.calibration, max_joint_step=args.step,
+                   reply_timeout=args.reply_timeout) as arm,
+    ):  # fmt: skip
+        start = time.perf_counter()
 
-            result = babble_on_arm(arm, bus.tracker, movements=args.movements, seed=seed, callback=progress)
-            wall = time.perf_counter() - start
-            moves = arm.moves
-            X = grid(args.robot)
-            learned = reach(arm, bus, result.inverse(X), X)
-            urdf = gb_pin.ik.solve(gb_pin.load_robot(args.robot), X, seed="home", tol=1e-9).postures
-            exact = reach(arm, bus, urdf, X)
-            stats = bus.stats()
-            row = {
+        def progress(r: int) -> None:
+            if r % 250 == 0:
+                print(f"arm {seed}: {r} movements, {time.perf_counter() - start:.0f} s", flush=True)
+
+        result = babble_on_arm(arm, bus.tracker, movements=args.movements, seed=seed, callback=progress)
+        wall = time.perf_counter() - start
+        moves = arm.moves
+        X = grid(args.robot)
+        learned = reach(arm, bus, result.inverse(X), X)
+        urdf = gb_pin.ik.solve(gb_pin.load_robot(args.robot), X, seed="home", tol=1e-9).postures
+        exact = reach(arm, bus, urdf, X)
+        stats = bus.stats()
+        row = {
                 "seed": seed, "movements": result.movements, "steps": result.steps, "missing": result.missing,
                 "wall_s": wall, "ms_per_step": 1e3 * wall / result.steps, "moves": moves,
-                "learned_mm": 1e3 * float(np.median(learned)), "learned_p90_mm": 1e3 * float(np.quantile(learned, 0.9)),
+                "learned_mm": 1e3 * float(np.median(learned)),
+                "learned_p90_mm": 1e3 * float(np.quantile(learned, 0.9)),
                 "urdf_mm": 1e3 * float(np.median(exact)), "urdf_p90_mm": 1e3 * float(np.quantile(exact, 0.9)),
                 "stalls": arm.stalls, "bus_faults": dict(arm.bus.faults), "injected": stats["faults"],
                 "requests": stats["requests"], "goal_writes": goal_writes(stats, arm),
@@ -87,6 +92,7 @@ def one_arm(seed: int, args: argparse.Namespace) -> dict:
 
 
 def main() -> int:
+    """Run the arms, print a line each, write --out."""
     a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     a.add_argument("--robot", default="so101", choices=("so101", "so100"))
     a.add_argument("--arms", type=int, nargs="+", default=[1, 2, 3], help="emulator seeds")
@@ -100,7 +106,8 @@ def main() -> int:
     rows = [one_arm(seed, args) for seed in args.arms]
     for r in rows:
         ratio = r["urdf_mm"] / r["learned_mm"]
-        print(f"arm {r['seed']}: learned {r['learned_mm']:.2f} mm, URDF IK {r['urdf_mm']:.2f} mm ({ratio:.1f}x); "
+        print(f"arm {r['seed']}: learned {r['learned_mm']:.2f} mm, URDF IK {r['urdf_mm']:.2f} mm "
+              f"({ratio:.1f}x); "
               f"{r['ms_per_step']:.2f} ms/step; bus faults {r['bus_faults']}; injected {r['injected']}; "
               f"goals outside limits {r['goal_writes']['outside_limits']}")  # fmt: skip
     if args.out:

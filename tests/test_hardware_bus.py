@@ -1,9 +1,10 @@
-"""gb_pin.hardware: the STS3215 protocol, LeRobot calibrations, FeetechArm on an emulated bus in its own process."""
+"""gb_pin.hardware: the STS3215 protocol, LeRobot calibrations, FeetechArm on an emulated bus."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
 import threading
 import time
 from collections.abc import Iterator
@@ -15,11 +16,11 @@ import pytest
 
 pytest.importorskip("serial")
 
-from gb_pin.exceptions import EmergencyStopError, HardwareError, HardwareWarning, InvalidArgumentError  # noqa: E402
-from gb_pin.hardware import FeetechArm, load_calibration  # noqa: E402
-from gb_pin.hardware import protocol as p  # noqa: E402
-from gb_pin.hardware.arms import TICKS_PER_RAD, arm_kind  # noqa: E402
-from gb_pin.hardware.emulator import Emulator  # noqa: E402
+from gb_pin.exceptions import EmergencyStopError, HardwareError, HardwareWarning, InvalidArgumentError
+from gb_pin.hardware import FeetechArm, load_calibration
+from gb_pin.hardware import protocol as p
+from gb_pin.hardware.arms import TICKS_PER_RAD, arm_kind
+from gb_pin.hardware.emulator import Emulator
 
 TICK = 1 / TICKS_PER_RAD
 
@@ -100,7 +101,9 @@ def test_an_unknown_port_is_a_one_line_error(bus: Emulator) -> None:
 
 def test_the_calibration_of_another_arm_or_a_silent_servo_moves_nothing(bus: Emulator) -> None:
     wrong = {m: {**c, "homing_offset": c["homing_offset"] + 37} for m, c in bus.calibration.items()}
-    with pytest.raises(HardwareError, match=r"servo shoulder_pan \(id 1\): holds homing offset .*another arm"):
+    with pytest.raises(
+        HardwareError, match=r"servo shoulder_pan \(id 1\): holds homing offset .*another arm"
+    ):
         FeetechArm(bus.port, "so101", wrong, reply_timeout=0.005)
     bus.set(3, "silent", True)
     with pytest.raises(HardwareError, match=r"servo elbow_flex \(id 3\): does not answer") as err:
@@ -129,7 +132,8 @@ def test_moves_settle_and_read_what_the_encoders_hold(bus: Emulator) -> None:
             np.testing.assert_allclose(truth["joints"][4:], 0.0, atol=0.5 * TICK)  # wrist roll, gripper held
         np.testing.assert_allclose(arm.read(), got, atol=0.5 * TICK)
         writes = _goal_steps(bus)[0]
-        for bad, match in (([np.nan] * 4, "finite"), (arm.command + [0.06, 0, 0, 0], "max_joint_step"),
+        far = arm.command + np.array([0.06, 0, 0, 0])
+        for bad, match in (([np.nan] * 4, "finite"), (far, "max_joint_step"),
                            ([0, -0.6, 0.6, 3.0], "outside")):  # fmt: skip
             with pytest.raises(InvalidArgumentError, match=match):
                 arm.move(bad)
@@ -160,7 +164,7 @@ def test_a_stalled_joint_is_named_and_its_posture_returned(bus: Emulator) -> Non
         arm.move_to(arm.home)
         bus.set(2, "stalled", True)
         with pytest.warns(HardwareWarning, match="shoulder_lift did not settle"):
-            got = arm.move(arm.command + [0, 0.05, 0, 0])
+            got = arm.move(arm.command + np.array([0, 0.05, 0, 0]))
         np.testing.assert_allclose(got, bus.truth()["arm"], atol=0.5 * TICK)
         assert abs(got[1] - arm.command[1]) > 0.04 and arm.stalls == 1 and arm.stalled["shoulder_lift"] == 1
 
@@ -175,7 +179,7 @@ def test_torque_after_close_exception_and_e_stop(bus: Emulator) -> None:
         raise RuntimeError("the user's code failed")
     assert set(bus.truth()["torque"].values()) == {1}
     with _arm(bus, on_stop="park") as arm:
-        arm.move_to(arm.home + [0.3, 0.0, 0.0, 0.0])
+        arm.move_to(arm.home + np.array([0.3, 0.0, 0.0, 0.0]))
     truth = bus.truth()
     assert set(truth["torque"].values()) == {0}  # park: home, then torque off
     np.testing.assert_allclose(truth["arm"], arm.home, atol=arm.tolerance)
@@ -184,9 +188,21 @@ def test_torque_after_close_exception_and_e_stop(bus: Emulator) -> None:
     threading.Timer(0.3, stop.set).start()
     with pytest.raises(EmergencyStopError, match="e-stop"), arm:
         for _ in range(10000):
-            arm.move_to(arm.home + [0.2, 0, 0, 0])
+            arm.move_to(arm.home + np.array([0.2, 0, 0, 0]))
             arm.move_to(arm.home)
             time.sleep(0.001)
     assert set(bus.truth()["torque"].values()) == {1}
     with pytest.raises(InvalidArgumentError, match="closed"):
         arm.move(arm.home)
+
+
+def test_nothing_but_the_cli_imports_gb_pin_hardware() -> None:
+    """gb_pin.hardware is an extra: no module outside it imports it, but the CLI's --arm (lazily)."""
+    root = Path(__file__).resolve().parents[1] / "gb_pin"
+    users = sorted(
+        str(path.relative_to(root))
+        for path in root.rglob("*.py")
+        if "hardware" not in path.parts
+        and re.search(r"^\s*(from|import) gb_pin\.hardware", path.read_text(encoding="utf-8"), re.M)
+    )
+    assert users == ["cli/arm.py"], users

@@ -1,6 +1,6 @@
 """``FeetechArm``: an SO-101 / SO-100 on its Feetech bus, moved posture by posture, settled, stopped safely.
 
->>> with FeetechArm("/dev/ttyACM0", "so101", calibration="my_arm.json", max_joint_step=0.05) as arm:  # doctest: +SKIP
+>>> with FeetechArm("/dev/ttyACM0", "so101", "arm.json", max_joint_step=0.05) as arm:  # doctest: +SKIP
 ...     arm.move_to(arm.home)          # from wherever it is, in steps of max_joint_step
 ...     q = arm.move([0.1, -0.6, 0.6, 0.6])   # the posture the encoders read once it settled
 
@@ -13,6 +13,7 @@ torque on) or parks it (``"park"``: home at ``park_speed``, then torque off).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
 import time
@@ -181,7 +182,8 @@ class FeetechArm:
             j = int(np.argmax(outside))
             raise InvalidArgumentError(
                 f"q[{j}] ({self.kind.learned[j]}) = {arr[j]:.4f} rad is outside "
-                f"[{self.lower[j]:.4f}, {self.upper[j]:.4f}] (the URDF's limits within the calibrated range); "
+                f"[{self.lower[j]:.4f}, {self.upper[j]:.4f}] "
+                "(the URDF's limits within the calibrated range); "
                 "nothing moved"
             )
         if self.max_joint_step is not None:
@@ -189,13 +191,14 @@ class FeetechArm:
             if step.max() > self.max_joint_step + 1e-9:
                 j = int(np.argmax(step))
                 raise InvalidArgumentError(
-                    f"q[{j}] ({self.kind.learned[j]}) moves {step[j]:.4f} rad from the last command, more than "
+                    f"q[{j}] ({self.kind.learned[j]}) moves {step[j]:.4f} rad from the last command, "
+                    "more than "
                     f"max_joint_step={self.max_joint_step:g}; nothing moved (move_to() goes in steps)"
                 )
         return arr
 
     def move(self, q: ArrayLike) -> NDArray[np.float64]:
-        """Send ``q`` (4,) [rad], wait until it settles (or ``timeout``), return the posture the encoders read.
+        """Send ``q`` (4,) [rad], wait until it settles (or ``timeout``), return the encoders' posture.
 
         Raises:
             InvalidArgumentError: q not finite, outside the limits or beyond max_joint_step (nothing moves).
@@ -207,7 +210,9 @@ class FeetechArm:
         self._guard()
         full = self._full.copy()
         step = np.inf if self.max_joint_step is None else self.max_joint_step
-        full = full + np.clip(self.held - full, -step, step)  # held joints: toward where the preset locks them
+        full = full + np.clip(
+            self.held - full, -step, step
+        )  # held joints: toward where the preset locks them
         full[self.learned] = arr
         goal = self.calibration.ticks(self.kind, full)
         lo, hi = self.calibration.range_min, self.calibration.range_max
@@ -223,7 +228,10 @@ class FeetechArm:
         return self.calibration.radians(self.kind, present)[self.learned]
 
     def move_to(self, q: ArrayLike, step: float | None = None) -> NDArray[np.float64]:
-        """Go to ``q`` from the last command in straight steps of at most ``step`` (default max_joint_step or 0.05 rad)."""
+        """Go to ``q`` from the last command in straight steps of at most ``step`` [rad].
+
+        ``step`` defaults to max_joint_step (or 0.05 rad without one).
+        """
         self._check_open()
         target = check.vector("q", q, 4)
         step = step or self.max_joint_step or 0.05
@@ -272,13 +280,14 @@ class FeetechArm:
 
     def _stop_now(self) -> None:
         """After an exception (or the e-stop) in the middle of a move: close as on_stop says."""
-        try:
+        with contextlib.suppress(Exception):  # the first exception is the one to see
             self.close()
-        except Exception:  # noqa: BLE001 - the first exception is the one to see
-            pass
 
     def close(self) -> None:
-        """Stop: ``"hold"`` where the arm is (torque on) or ``"park"`` (home at park_speed, torque off); close the port."""
+        """Stop as ``on_stop`` says and close the port.
+
+        ``"hold"``: where the arm is, torque on; ``"park"``: home at park_speed, then torque off.
+        """
         if self._closed:
             return
         self._closed = True

@@ -27,7 +27,7 @@ def arm_robot(arm: FeetechArm) -> Any:
     robot = ExternalRobot(
         arm.home, preset.n_task, preset.targets, lower=arm.lower, upper=arm.upper, name=preset.name
     )
-    robot.preset = arm.kind.robot  # type: ignore[attr-defined]
+    robot.preset = arm.kind.robot
     return robot
 
 
@@ -48,8 +48,11 @@ def babble_on_arm(
     Args:
         arm: the arm (its ``max_joint_step`` limits the session's asks).
         tracker: ``tracker()`` -> the hand's position (3,) [m] now, or None when it lost the hand.
-        movements, seed: the run's.
+        movements: movements to learn (a resumed run keeps its own).
+        seed: the run's seed.
         checkpoint: the file to checkpoint to (and, with ``resume``, to continue from).
+        resume: continue the run of ``checkpoint``.
+        checkpoint_every: movements between checkpoints (default a tenth of the run).
         callback: called with the movement count after each completed movement.
         evaluate: ``"none"`` or ``"movements"`` (E^X from evaluation movements on the arm).
 

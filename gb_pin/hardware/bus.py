@@ -73,6 +73,7 @@ class FeetechBus:
         self.byte_time = 10.0 / int(baudrate)  # 8N1
 
     def label(self, servo: int) -> str:
+        """``elbow_flex (id 3)``: a servo as messages name it."""
         name = self.names.get(servo)
         return f"{name} (id {servo})" if name else f"id {servo}"
 
@@ -115,7 +116,9 @@ class FeetechBus:
         for attempt in range(self.retries + 1):
             if attempt:
                 self.faults["retry"] += 1
-                time.sleep(min(self.reply_timeout * 2**attempt, 0.5))  # a late reply arrives now, and is flushed
+                time.sleep(
+                    min(self.reply_timeout * 2**attempt, 0.5)
+                )  # a late reply arrives now, and is flushed
             self._send(request)
             got = self._receive(servos, size)
             if not isinstance(got, int):

@@ -1,4 +1,4 @@
-"""LeRobot calibration files, read as they are: ``{motor: {id, drive_mode, homing_offset, range_min, range_max}}``.
+"""LeRobot calibration files, read as they are: ``{motor: {id, drive_mode, homing_offset, range_min, ...}}``.
 
 LeRobot writes them under ``~/.cache/huggingface/lerobot/calibration/robots/so_follower/<id>.json``
 (``so101_follower`` / ``so100_follower`` in older versions) when ``lerobot-calibrate`` runs, and the
@@ -45,6 +45,7 @@ class Calibration:
 
     @property
     def sign(self) -> NDArray[np.float64]:
+        """-1 for a motor of drive mode 1 (turning the other way), else 1."""
         return np.where(self.drive_modes == 1, -1.0, 1.0)
 
     def radians(self, kind: ArmKind, ticks: NDArray[Any]) -> NDArray[np.float64]:
@@ -105,22 +106,23 @@ def load_calibration(source: str | os.PathLike[str] | dict[str, Any], kind: ArmK
     rows = []
     for motor in kind.motors:
         entry = data[motor]
-        if not isinstance(entry, dict) or any(f not in entry for f in FIELDS):
+        if not isinstance(entry, dict) or any(key not in entry for key in FIELDS):
             raise InvalidArgumentError(
                 f"calibration {where!r}: {motor} needs {', '.join(FIELDS)}, got {entry!r:.120}"
             )
         values = []
-        for f in FIELDS:
-            v = entry[f]
+        for key in FIELDS:
+            v = entry[key]
             if isinstance(v, bool) or not isinstance(v, int):
                 raise InvalidArgumentError(
-                    f"calibration {where!r}: {motor}.{f} must be an integer, got {v!r:.40}"
+                    f"calibration {where!r}: {motor}.{key} must be an integer, got {v!r:.40}"
                 )
             values.append(v)
         servo, mode, offset, lo, hi = values
         if not (0 <= servo <= 253 and mode in (0, 1) and abs(offset) < 2048 and 0 <= lo < hi <= 4095):
             raise InvalidArgumentError(
-                f"calibration {where!r}: {motor} = {entry!r:.160} is out of range (id 0-253, drive_mode 0 or 1, "
+                f"calibration {where!r}: {motor} = {entry!r:.160} is out of range "
+                "(id 0-253, drive_mode 0 or 1, "
                 "|homing_offset| < 2048, 0 <= range_min < range_max <= 4095)"
             )
         rows.append(values)

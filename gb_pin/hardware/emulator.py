@@ -25,6 +25,7 @@ pyserial as it would ``/dev/ttyACM0``. What the bus does:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -63,9 +64,11 @@ class Servo:
         self.put(p.LOCK, 1)
 
     def get(self, reg: p.Register) -> int:
+        """A register's value."""
         return p.decode(self.regs[reg.address : reg.address + reg.size], reg)
 
     def put(self, reg: p.Register, value: int) -> None:
+        """Set a register."""
         self.regs[reg.address : reg.address + reg.size] = p.encode(value, reg)
 
     def goal(self) -> float:
@@ -146,6 +149,7 @@ class Bus:
 
     # -- the bus ----------------------------------------------------------------------------
     def send(self, data: bytes, delay: float = 0.0) -> None:
+        """Write bytes to the bus (after ``delay`` seconds, from a timer thread)."""
         if delay > 0:
             timer = threading.Timer(delay, self.send, (data,))
             timer.daemon = True
@@ -199,6 +203,7 @@ class Bus:
                 self.write(s, params[0], params[1:])
 
     def write(self, s: Servo, address: int, data: bytes) -> None:
+        """Write a servo's registers (EEPROM only when unlocked); goal writes are logged."""
         if s.silent:
             return
         if address < EEPROM_END and s.get(p.LOCK):
@@ -236,15 +241,17 @@ class Bus:
 
     # -- the control socket -----------------------------------------------------------------
     def control(self, message: tuple[Any, ...]) -> Any:
+        """Answer a message of the control socket (tracker, truth, statistics, faults)."""
         with self.lock:
             what = message[0]
             if what == "hand":  # the tracker: the hand's position [m] (noisy), or None
                 return self.plant.observe(self.arm())
             if what == "truth":
                 q = self.arm()
+                servos = self.servos.items()
                 return {"joints": self.joints(), "arm": q, "hand": self.plant.forward(q),
-                        "torque": {sid: s.get(p.TORQUE_ENABLE) for sid, s in self.servos.items()},
-                        "present": {sid: s.get(p.PRESENT_POSITION) for sid, s in self.servos.items()}}  # fmt: skip
+                        "torque": {sid: s.get(p.TORQUE_ENABLE) for sid, s in servos},
+                        "present": {sid: s.get(p.PRESENT_POSITION) for sid, s in servos}}  # fmt: skip
             if what == "stats":
                 return {"goals": list(self.goals), "faults": dict(self.faults), "requests": self.requests}
             if what == "set":  # ("set", servo id, attribute, value): silent, stalled
@@ -268,7 +275,7 @@ def _listen(bus: Bus, listener: Listener, stop: threading.Event) -> None:
                     return
                 try:
                     conn.send(("ok", bus.control(message)))
-                except Exception as exc:  # noqa: BLE001 - the caller sees it
+                except Exception as exc:  # the caller sees it
                     conn.send(("error", repr(exc)))
 
     while not stop.is_set():
@@ -313,10 +320,8 @@ def main(argv: list[str] | None = None) -> int:
     threading.Thread(target=bus.serve, args=(master, stop), daemon=True).start()
     print(json.dumps({"port": os.ttyname(slave), "control": listener.address, "authkey": authkey.hex(),
                       "calibration": bus.calibration, "pid": os.getpid()}), flush=True)  # fmt: skip
-    try:
+    with contextlib.suppress(KeyboardInterrupt):
         sys.stdin.read()  # until the parent closes our stdin (or dies)
-    except KeyboardInterrupt:
-        pass
     stop.set()
     listener.close()
     os.close(slave)
@@ -341,6 +346,7 @@ class Emulator:
             self.process.wait()
             raise RuntimeError(f"the emulator did not start ({' '.join(argv)})")
         info = json.loads(line)
+        self.control = {"control": info["control"], "authkey": info["authkey"]}
         self.port: str = info["port"]
         self.calibration: dict[str, dict[str, int]] = info["calibration"]
         self._conn = Client(info["control"], family="AF_UNIX", authkey=bytes.fromhex(info["authkey"]))
@@ -367,6 +373,10 @@ class Emulator:
         """Every goal written (servo, value, min limit, max limit), faults injected, requests."""
         return self.ask("stats")
 
+    def environment(self) -> dict[str, str]:
+        """The environment variable pointing :func:`tracker` at this bus."""
+        return {ENVIRONMENT: json.dumps(self.control)}
+
     def set(self, servo: int, attribute: str, value: Any) -> None:
         """A servo fault: ``set(3, "silent", True)`` (stops answering), ``set(2, "stalled", True)``."""
         self.ask("set", servo, attribute, value)
@@ -390,6 +400,26 @@ class Emulator:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+ENVIRONMENT = "GB_PIN_EMULATOR"
+_TRACKER: list[Connection] = []
+
+
+def tracker() -> np.ndarray | None:
+    """The emulated tracker of the bus that ``$GB_PIN_EMULATOR`` names (``Emulator.environment()``).
+
+    For ``gb-pin babble --arm feetech:port=PTY,... --tracker gb_pin.hardware.emulator:tracker``.
+    """
+    if not _TRACKER:
+        info = json.loads(os.environ[ENVIRONMENT])
+        _TRACKER.append(Client(info["control"], family="AF_UNIX", authkey=bytes.fromhex(info["authkey"])))
+    conn = _TRACKER[0]
+    conn.send(("hand",))
+    status, value = conn.recv()
+    if status != "ok":
+        raise RuntimeError(value)
+    return value
 
 
 if __name__ == "__main__":
