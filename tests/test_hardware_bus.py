@@ -128,7 +128,7 @@ def test_moves_settle_and_read_what_the_encoders_hold(bus: Emulator) -> None:
             got = arm.move(q)
             truth = bus.truth()
             np.testing.assert_allclose(got, truth["arm"], atol=0.5 * TICK)  # the reading is the present one
-            np.testing.assert_allclose(got, q, atol=0.5 * TICK)  # settled on the goal, to a tick
+            np.testing.assert_allclose(got, q, atol=1.5 * TICK)  # settled on the goal, to a tick
             np.testing.assert_allclose(truth["joints"][4:], 0.0, atol=0.5 * TICK)  # wrist roll, gripper held
         np.testing.assert_allclose(arm.read(), got, atol=0.5 * TICK)
         writes = _goal_steps(bus)[0]
@@ -139,7 +139,7 @@ def test_moves_settle_and_read_what_the_encoders_hold(bus: Emulator) -> None:
                 arm.move(bad)
         assert _goal_steps(bus)[0] == writes  # nothing written
     n, outside, largest = _goal_steps(bus)
-    assert n > 40 * 6 and outside == 0 and largest <= math.ceil(0.05 * TICKS_PER_RAD)
+    assert n > 40 * 6 and outside == 0 and largest <= math.floor(0.05 * TICKS_PER_RAD)  # 32 ticks
 
 
 def test_faults_are_recovered_counted_and_never_give_a_stale_reading() -> None:
@@ -156,7 +156,7 @@ def test_faults_are_recovered_counted_and_never_give_a_stale_reading() -> None:
             injected = bus.stats()["faults"]
         assert injected["dropped"] > 0 and injected["late"] > 0
         assert faults["retry"] > 0 and faults["timeout"] + faults["wrong_id"] + faults["extra_bytes"] > 0
-        assert _goal_steps(bus)[1] == 0
+        assert _goal_steps(bus)[1] == 0 and _goal_steps(bus)[2] <= 32
 
 
 def test_a_stalled_joint_is_named_and_its_posture_returned(bus: Emulator) -> None:

@@ -217,6 +217,9 @@ class FeetechArm:
         goal = self.calibration.ticks(self.kind, full)
         lo, hi = self.calibration.range_min, self.calibration.range_max
         goal = np.clip(goal, lo, hi)  # rounding at a limit stays inside the calibrated range
+        if self.max_joint_step is not None:  # rounding never makes a goal step a tick longer either
+            most = math.floor(self.max_joint_step * TICKS_PER_RAD + 1e-9)
+            goal = np.clip(goal, self._goal - most, self._goal + most)
         try:
             self.bus.sync_write(p.GOAL_POSITION, dict(zip(self.ids, goal.tolist(), strict=True)))
             self.command, self._goal, self._full = arr, goal, full
