@@ -206,3 +206,15 @@ def test_nothing_but_the_cli_imports_gb_pin_hardware() -> None:
         and re.search(r"^\s*(from|import) gb_pin\.hardware", path.read_text(encoding="utf-8"), re.M)
     )
     assert users == ["cli/arm.py"], users
+
+
+def test_an_so100_reaches_home_in_its_urdfs_radians() -> None:
+    """The SO-100: the middle of each calibrated range is the middle of its URDF's limits."""
+    with Emulator(robot="so100", seed=3, speed=60000) as bus, _arm_of(bus, "so100") as arm:
+        got = arm.move_to(arm.home)
+        np.testing.assert_allclose(got, [0.0, 1.5, -0.9, 0.0], atol=0.5 * TICK)
+        np.testing.assert_allclose(bus.truth()["arm"], got, atol=0.5 * TICK)
+
+
+def _arm_of(bus: Emulator, robot: str) -> FeetechArm:
+    return FeetechArm(bus.port, robot, bus.calibration, max_joint_step=0.05, reply_timeout=0.005)
