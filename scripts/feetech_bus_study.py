@@ -22,6 +22,7 @@ import numpy as np
 
 import gb_pin
 from gb_pin.hardware import FeetechArm
+from gb_pin.hardware.arms import TICKS_PER_RAD
 from gb_pin.hardware.babbling import babble_on_arm
 from gb_pin.hardware.emulator import Emulator
 
@@ -46,7 +47,9 @@ def reach(arm: FeetechArm, bus: Emulator, postures: np.ndarray, X: np.ndarray) -
 
 def goal_writes(stats: dict, arm: FeetechArm) -> dict:
     """Goals written outside the servo's limits, and the largest change between two goals [ticks]."""
-    outside, last, largest = 0, {}, {}
+    outside = 0
+    last: dict[int, int] = {}
+    largest: dict[int, int] = {}
     for servo, goal, lo, hi in stats["goals"]:
         outside += not lo <= goal <= hi
         if servo in last:
@@ -69,6 +72,17 @@ def one_arm(seed: int, args: argparse.Namespace) -> dict:
             if r % 250 == 0:
                 print(f"arm {seed}: {r} movements, {time.perf_counter() - start:.0f} s", flush=True)
 
+        stale = [0, 0]
+        if args.check_stale:  # every reading compared with the emulator's encoders
+            move = arm.move
+
+            def checked(q: np.ndarray) -> np.ndarray:
+                got = move(q)
+                stale[0] += 1
+                stale[1] += bool(np.abs(got - bus.truth()["arm"]).max() > 0.5 / TICKS_PER_RAD)
+                return got
+
+            arm.move = checked  # type: ignore[method-assign,assignment]
         result = babble_on_arm(arm, bus.tracker, movements=args.movements, seed=seed, callback=progress)
         wall = time.perf_counter() - start
         moves = arm.moves
@@ -86,6 +100,7 @@ def one_arm(seed: int, args: argparse.Namespace) -> dict:
                 "stalls": arm.stalls, "bus_faults": dict(arm.bus.faults), "injected": stats["faults"],
                 "requests": stats["requests"], "goal_writes": goal_writes(stats, arm),
                 "step_ticks": args.step * 4095 / (2 * np.pi),
+            "readings_checked": stale[0], "stale_readings": stale[1],
             }  # fmt: skip
     print(json.dumps(row), flush=True)
     return row
@@ -101,6 +116,7 @@ def main() -> int:
     a.add_argument("--speed", type=float, default=60000.0, help="emulated servo speed [ticks/s]")
     a.add_argument("--step", type=float, default=0.05, help="max_joint_step [rad]")
     a.add_argument("--reply-timeout", type=float, default=0.01, help="the host's reply timeout [s]")
+    a.add_argument("--check-stale", action="store_true", help="compare every reading with the emulator's")
     a.add_argument("--out", default=None)
     args = a.parse_args()
     rows = [one_arm(seed, args) for seed in args.arms]
@@ -109,7 +125,8 @@ def main() -> int:
         print(f"arm {r['seed']}: learned {r['learned_mm']:.2f} mm, URDF IK {r['urdf_mm']:.2f} mm "
               f"({ratio:.1f}x); "
               f"{r['ms_per_step']:.2f} ms/step; bus faults {r['bus_faults']}; injected {r['injected']}; "
-              f"goals outside limits {r['goal_writes']['outside_limits']}")  # fmt: skip
+              f"goals outside limits {r['goal_writes']['outside_limits']}; "
+              f"stale readings {r['stale_readings']} of {r['readings_checked']} checked")  # fmt: skip
     if args.out:
         with open(args.out, "w") as f:
             json.dump({"args": vars(args), "arms": rows}, f, indent=1)
