@@ -107,7 +107,7 @@ def test_the_calibration_of_another_arm_or_a_silent_servo_moves_nothing(bus: Emu
         FeetechArm(bus.port, "so101", wrong, reply_timeout=0.005)
     bus.set(3, "silent", True)
     with pytest.raises(HardwareError, match=r"servo elbow_flex \(id 3\): does not answer") as err:
-        FeetechArm(bus.port, "so101", bus.calibration, reply_timeout=0.005, retries=1)
+        FeetechArm(bus.port, "so101", bus.calibration, reply_timeout=0.005, retries=3)
     assert "\n" not in str(err.value)
     truth = bus.truth()
     assert bus.stats()["goals"] == [] and set(truth["torque"].values()) == {0}
@@ -167,6 +167,11 @@ def test_a_stalled_joint_is_named_and_its_posture_returned(bus: Emulator) -> Non
             got = arm.move(arm.command + np.array([0, 0.05, 0, 0]))
         np.testing.assert_allclose(got, bus.truth()["arm"], atol=0.5 * TICK)
         assert abs(got[1] - arm.command[1]) > 0.04 and arm.stalls == 1 and arm.stalled["shoulder_lift"] == 1
+        bus.set(2, "stalled", False)
+        bus.set(4, "silent", True)  # a servo stops answering in the middle of the run
+        with pytest.raises(HardwareError, match=r"servo wrist_flex \(id 4\): no valid reply to SYNC_READ"):
+            arm.move(arm.command)
+    assert set(bus.truth()["torque"].values()) == {1}  # the others hold
 
 
 # -- stopping ------------------------------------------------------------------------------------
