@@ -71,6 +71,7 @@ def test_cli_babbles_on_the_arm_survives_ctrl_c_and_resumes(tmp_path: Path) -> N
         assert len(bus.stats()["goals"]) == writes
 
 
+@pytest.mark.slow
 def test_the_arm_learns_what_the_urdf_misses() -> None:
     """After 300 movements the learned inverse, executed on the arm, beats exact IK on the URDF.
 
