@@ -60,3 +60,26 @@ class ExtrapolationWarning(GbPinWarning):
 
 class ViewerWarning(GbPinWarning):
     """A viewer could not start; the run goes on without it."""
+
+
+class HardwareError(GbPinError):
+    """A real robot (or its bus) failed: a port that does not open, a servo that does not answer.
+
+    Args:
+        port: the bus's port (e.g. ``/dev/ttyACM0``).
+        what: what went wrong.
+        servo: the servo concerned (``"elbow_flex (id 3)"``), if one.
+    """
+
+    def __init__(self, port: str, what: str, servo: str | None = None) -> None:
+        self.port, self.servo, self.what = port, servo, what
+        where = f"{port}, servo {servo}" if servo else port
+        super().__init__(f"Feetech bus {where}: {what}")
+
+
+class EmergencyStopError(HardwareError):
+    """The e-stop event was set: the arm stopped (and was held or parked as ``on_stop`` says)."""
+
+
+class HardwareWarning(GbPinWarning):
+    """A real robot did something worth knowing that is not an error (a joint stalled short of its goal)."""

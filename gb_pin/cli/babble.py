@@ -14,6 +14,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 import gb_pin.cli.body_options as body_options
+from gb_pin.cli.arm import add_arm_options
 from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
@@ -50,7 +51,9 @@ examples:
   gb-pin babble --robot examples/continuum_arm.py:robot --movements 500
   gb-pin babble --continue run.npz --movements 2000 --out more.npz
   gb-pin babble --robot planar50 --movements 100000 --checkpoint run.ckpt   (then: --resume run.ckpt)
-  gb-pin babble --robot planar5 --movements 300 --view"""
+  gb-pin babble --robot planar5 --movements 300 --view
+  gb-pin babble --robot so101 --arm feetech:port=/dev/ttyACM0,calibration=arm.json --tracker cam.py:hand \\
+      --movements 3000 --checkpoint so101.ckpt      (then: --resume so101.ckpt; docs/HARDWARE.md)"""
 
 
 def add_babble(sub: Subparsers) -> None:
@@ -75,6 +78,7 @@ def _add_options(b: argparse.ArgumentParser) -> None:
     add_learner_options(b)
     add_goal_options(b)
     body_options.add_body_options(b)
+    add_arm_options(b)
     b.add_argument("--out", default=None, help="save the result to this .npz file")
     _add_checkpoint_options(b)
     _add_record_options(b)
@@ -134,6 +138,12 @@ def run(args: argparse.Namespace) -> int:
     import gb_pin.cli.checks as checks
     from gb_pin.runs.api import warmup
 
+    if args.arm is not None:  # a real arm: the hardware package, imported there only
+        from gb_pin.cli.arm import run_arm
+
+        return run_arm(args, _Progress)
+    if args.tracker is not None:
+        raise InvalidArgumentError("--tracker watches a real arm: give --arm too")
     checks.babble(args)  # combinations, ranges and output paths, before any work
     goal_args = goal_values(args)  # generator and point files read and checked before any work too
     if args.resume and goal_args:

@@ -59,6 +59,31 @@ def reading(x: Any, n: int) -> NDArray[np.float64] | None:
     return arr
 
 
+def posture(q: Any, m: int) -> NDArray[np.float64] | None:
+    """An executed posture checked: None, or a finite real (m,) vector [rad] or [m].
+
+    Raises:
+        InvalidArgumentError: anything else.
+    """
+    if q is None:
+        return None
+    try:
+        raw = np.asarray(q)
+        if raw.dtype.kind not in "fiu" or raw.dtype == np.bool_:
+            raise TypeError(f"dtype {raw.dtype}")
+        arr = np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"executed must be a real posture of shape ({m},) (or None: the asked one), got {q!r:.200}"
+        ) from exc
+    if arr.shape != (m,) or not (np.abs(arr) <= layout.MAX_POSTURE).all():
+        raise InvalidArgumentError(
+            f"executed must be a finite posture of shape ({m},) (or None: the asked one), got "
+            f"{np.array2string(arr, threshold=20)} of shape {arr.shape}"
+        )
+    return arr
+
+
 class AskTell:
     """One step at a time over a babbling state, up to ``stop`` movements.
 
@@ -175,11 +200,17 @@ class AskTell:
             st._diverged()
         self._build()
 
-    def tell(self, x: ArrayLike | None) -> bool:
+    def tell(self, x: ArrayLike | None, executed: ArrayLike | None = None) -> bool:
         """Learn from the task-space position ``x`` (n,) [m] reached by the last asked posture.
 
         ``x`` None: the reading is missing (the tracker lost the hand). Nothing is learnt from
         the step; the movement goes on and t advances.
+
+        ``executed``: the posture (m,) the robot actually reached (its encoders: clipped by the
+        servos, stalled, quantised), learnt from in place of the asked one (the pair (x, q) of
+        Eqs. 4-6 and the previous posture of the next step's weight). The next ask's joint-step
+        limit still counts from the asked posture (the last command). None: the asked posture,
+        exactly as before.
 
         Returns:
             True when this step completed a movement.
@@ -191,11 +222,21 @@ class AskTell:
         if not self.pending:
             raise InvalidArgumentError("tell(x) without ask(): ask() for a posture first")
         arr = reading(x, self._n)
+        done = posture(executed, self._q.shape[0])
         if arr is not None:
             self._x[:] = arr
         self.pending = False
         st = self.state
+        if done is None:
+            return bool(
+                tell_step(st.rng, self._learner, self._limits, self._run, self._rec, arr is not None)
+                == MOVEMENT_DONE
+            )
+        asked = self._q.copy()
+        self._q[:] = done
         status = tell_step(st.rng, self._learner, self._limits, self._run, self._rec, arr is not None)
+        self._run.motion.q_exec[:] = asked  # the step limit goes on from the last command
+        self._q[:] = asked
         return bool(status == MOVEMENT_DONE)
 
     def sync(self) -> None:

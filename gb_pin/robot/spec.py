@@ -36,6 +36,27 @@ def spec_of(robot: Any) -> str | None:
     return None
 
 
+def import_module_or_file(module_name: str, label: str) -> Any:
+    """The module ``module_name`` (dotted, or a ``.py`` file's path), run once imported.
+
+    Raises:
+        InvalidArgumentError: ``label``: no such file, or it cannot be imported.
+    """
+    try:
+        if module_name.endswith(".py"):
+            path = Path(module_name)
+            if not path.is_file():
+                raise InvalidArgumentError(f"{label}: no file {module_name}")
+            loader = importlib.util.spec_from_file_location(path.stem, path)
+            assert loader is not None and loader.loader is not None
+            module = importlib.util.module_from_spec(loader)
+            loader.loader.exec_module(module)
+            return module
+        return importlib.import_module(module_name)
+    except ImportError as exc:
+        raise InvalidArgumentError(f"{label}: cannot import {module_name!r} ({exc})") from exc
+
+
 def load_robot_spec(spec: str) -> Any:
     """The robot named by ``MODULE:NAME``: a module (or a ``.py`` file) and a robot or robot factory in it.
 
@@ -56,19 +77,7 @@ def load_robot_spec(spec: str) -> Any:
             f"robot {spec!r}: {module_name} is a module of Python's standard library, which holds no "
             "robot; name your own module or .py file (MODULE:NAME, e.g. examples/continuum_arm.py:robot)"
         )
-    try:
-        if module_name.endswith(".py"):
-            path = Path(module_name)
-            if not path.is_file():
-                raise InvalidArgumentError(f"robot {spec!r}: no file {module_name}")
-            loader = importlib.util.spec_from_file_location(path.stem, path)
-            assert loader is not None and loader.loader is not None
-            module = importlib.util.module_from_spec(loader)
-            loader.loader.exec_module(module)
-        else:
-            module = importlib.import_module(module_name)
-    except ImportError as exc:
-        raise InvalidArgumentError(f"robot {spec!r}: cannot import {module_name!r} ({exc})") from exc
+    module = import_module_or_file(module_name, f"robot {spec!r}")
     if not hasattr(module, attr):
         raise InvalidArgumentError(f"robot {spec!r}: {module_name} has no {attr!r}")
     obj = getattr(module, attr)

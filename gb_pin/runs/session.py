@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from gb_pin import _validation as check
 from gb_pin._files import check_writable, fallback_path
 from gb_pin.exceptions import GbPinWarning, InvalidArgumentError
-from gb_pin.learn.asktell import AskTell, reading
+from gb_pin.learn.asktell import AskTell, posture, reading
 from gb_pin.learn.feedback import FeedbackReach
 from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.learn.probe import EvaluationMoves
@@ -193,11 +193,17 @@ class BabbleSession:
         self._kind = LEARN
         return q
 
-    def tell(self, x: ArrayLike | None) -> bool:
+    def tell(self, x: ArrayLike | None, executed: ArrayLike | None = None) -> bool:
         """The task-space position (n,) [m] the robot reached at the asked posture; None if unseen.
 
         A missing reading (None) teaches nothing: the movement goes on and t advances (a missing
         reading of home or of a test posture is asked again).
+
+        ``executed``: the posture (m,) the robot actually reached, when it differs from the one
+        asked (a servo clipped, stalled or rounded it to its ticks; e.g. what
+        :meth:`gb_pin.hardware.FeetechArm.move` returns): a learning step learns from it instead.
+        Ignored for home, evaluation and transit asks. None (the default): the asked posture,
+        bit-identical to a tell without it.
 
         Returns:
             True when this tell completed a learning movement.
@@ -209,6 +215,7 @@ class BabbleSession:
         if self._kind is None:
             raise InvalidArgumentError("tell(x) without ask(): ask() for a posture first")
         arr = reading(x, self.target.n_task)
+        done = None if self._stepper is None else posture(executed, self.target.n_joints)
         kind, self._kind = self._kind, None
         if kind == HOME:
             if arr is not None:
@@ -223,7 +230,7 @@ class BabbleSession:
                 self._stepper.record_evaluation(self._probe_entry, probe.error())
             return False
         assert self._stepper is not None
-        finished = self._stepper.tell(arr)
+        finished = self._stepper.tell(arr, done)
         if (
             finished
             and self.checkpoint is not None
