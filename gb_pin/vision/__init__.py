@@ -18,6 +18,7 @@ Modules, one concept each:
 - :mod:`~gb_pin.vision.intrinsics`: :class:`Intrinsics` (guessed, or OpenCV's calibration files);
 - :mod:`~gb_pin.vision.camera`: :class:`VideoCamera` (a webcam, read after the call);
 - :mod:`~gb_pin.vision.sensor`: :class:`CameraSensor` (a camera and a tracker: ``read() -> x | None``);
+- :mod:`~gb_pin.vision.watched`: :class:`WatchedRobot` (a robot that moves, learnt in the camera's frame);
 - :mod:`~gb_pin.vision.taught`: :func:`teach` and :func:`goal_box` (goals shown, not typed);
 - :mod:`~gb_pin.vision.dependency`: the OpenCV check.
 """
@@ -35,6 +36,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "Intrinsics": "gb_pin.vision.intrinsics",
     "Tracker": "gb_pin.vision.tracker",
     "VideoCamera": "gb_pin.vision.camera",
+    "WatchedRobot": "gb_pin.vision.watched",
     "goal_box": "gb_pin.vision.taught",
     "marker_image": "gb_pin.vision.aruco",
     "require_cv2": "gb_pin.vision.dependency",
@@ -48,6 +50,7 @@ __all__ = [
     "Intrinsics",
     "Tracker",
     "VideoCamera",
+    "WatchedRobot",
     "goal_box",
     "marker_image",
     "require_cv2",
@@ -65,3 +68,4 @@ if TYPE_CHECKING:
     from gb_pin.vision.sensor import CameraSensor
     from gb_pin.vision.taught import goal_box, teach
     from gb_pin.vision.tracker import Tracker
+    from gb_pin.vision.watched import WatchedRobot

@@ -205,3 +205,15 @@ def marker_image(marker_id: int, pixels: int = 200, dictionary: str = "DICT_4X4_
     if border:
         img = cv2.copyMakeBorder(img, border, border, border, border, cv2.BORDER_CONSTANT, value=255)
     return img
+
+
+def marker_png(
+    marker_id: int, pixels: int = 200, dictionary: str = "DICT_4X4_50", border: int = 0, mirror: bool = False
+) -> bytes:
+    """:func:`marker_image` as PNG bytes (``mirror``: flipped left-right, for a texture seen from behind)."""
+    cv2 = require_cv2()
+    image = marker_image(marker_id, pixels, dictionary, border)
+    ok, data = cv2.imencode(".png", np.ascontiguousarray(image[:, ::-1] if mirror else image))
+    if not ok:
+        raise InvalidArgumentError("OpenCV could not encode the marker as PNG")
+    return bytes(data.tobytes())
