@@ -33,12 +33,14 @@ SCHEDULE = [0, 100, 200, 300, 500, 700, 1000, 1500, 2000, 3000]
 
 
 def box_corners(target) -> np.ndarray:
+    """The 8 corners of the preset's goal box (x fastest)."""
     lo, hi = target.targets.min(axis=0), target.targets.max(axis=0)
     return np.array([[(hi if b else lo)[a] for a, b in enumerate((i, j, k))]
                      for k in (0, 1) for j in (0, 1) for i in (0, 1)])  # fmt: skip
 
 
 def test_points(target, shrink: float = 0.75) -> np.ndarray:
+    """A 3 x 3 x 3 grid over ``shrink`` of the goal box (none a goal)."""
     lo, hi = target.targets.min(axis=0), target.targets.max(axis=0)
     c, h = (lo + hi) / 2, shrink * (hi - lo) / 2
     axes = [np.linspace(c[a] - h[a], c[a] + h[a], 3) for a in range(3)]
@@ -46,10 +48,12 @@ def test_points(target, shrink: float = 0.75) -> np.ndarray:
 
 
 def urdf_postures(target, X: np.ndarray) -> np.ndarray:
+    """Exact IK on the URDF (where a user would hold the arm)."""
     return solve(target, X, seed="home", tol=1e-9).postures
 
 
 def tracker_study(args: argparse.Namespace) -> None:
+    """Detection and error of three corner refinements at random postures."""
     plant = MujocoPlant("so101", kp=10.0, camera="side", seed=0)
     rng = np.random.default_rng(1)
     lo, hi = plant.target.targets.min(0), plant.target.targets.max(0)
@@ -94,6 +98,7 @@ class Perfect(gb_pin.FunctionTarget):
         self.preset = "so101"
 
     def forward(self, q):  # type: ignore[override]
+        """Move, read the true marker centre."""
         self.plant.move(q)
         return self.plant.camera.pose.to_camera(self.plant.marker_position())
 
@@ -115,6 +120,7 @@ def marker_ik(plant: MujocoPlant, world: np.ndarray) -> np.ndarray:
 
 
 def turned(seed: int, degrees: float) -> np.ndarray:
+    """A rotation of ``degrees`` about a random axis."""
     rng = np.random.default_rng(seed + 100)
     axis = rng.normal(size=3)
     axis /= np.linalg.norm(axis)
@@ -124,6 +130,7 @@ def turned(seed: int, degrees: float) -> np.ndarray:
 
 
 def learn_study(args: argparse.Namespace) -> None:
+    """One seed: teach, babble (camera and perfect), reach, URDF IK."""
     seed, M = args.seed, args.movements
     plant = MujocoPlant("so101", kp=10.0, camera="side", seed=seed)
     tracker = ArucoTracker(plant.camera.intrinsics(), 0.025, marker_id=7)
@@ -143,14 +150,14 @@ def learn_study(args: argparse.Namespace) -> None:
         open_mm = 1e3 * np.linalg.norm(plant.true_marker(q_open) - truth, axis=1)
         reached = result.reach(taught, observe)
         fb_mm = 1e3 * np.linalg.norm(plant.true_marker(reached.postures) - truth, axis=1)
-        return {"open_mm": float(np.median(open_mm)), "open_p90_mm": float(np.percentile(open_mm, 90)),
-                "feedback_mm": float(np.median(fb_mm)), "feedback_p90_mm": float(np.percentile(fb_mm, 90))}  # fmt: skip
+        return {
+            "open_mm": float(np.median(open_mm)), "open_p90_mm": float(np.percentile(open_mm, 90)),
+            "feedback_mm": float(np.median(fb_mm)), "feedback_p90_mm": float(np.percentile(fb_mm, 90)),
+        }  # fmt: skip
 
     schedule = [m for m in SCHEDULE if m < M] + [M]
-    for name, body, observe in (
-        ("perfect", Perfect(plant, goals), None),
-        ("camera", robot, robot.observe),
-    ):
+    runs = [("perfect", Perfect(plant, goals), None), ("camera", robot, robot.observe)]
+    for name, body, observe in runs[: 1 if args.perfect_only else 2]:
         plant.reset()
         t0 = time.perf_counter()
         asks0, frames0 = plant.asks, plant.camera.frames
@@ -181,21 +188,25 @@ def learn_study(args: argparse.Namespace) -> None:
         out[name] = {"median_mm": float(np.median(mm)), "p90_mm": float(np.percentile(mm, 90))}
         print(name, out[name], flush=True)
     Path(args.out).mkdir(parents=True, exist_ok=True)
-    (Path(args.out) / f"learn_seed{seed}_m{M}.json").write_text(json.dumps(out, indent=1))
+    tag = "perfect" if args.perfect_only else "learn"
+    (Path(args.out) / f"{tag}_seed{seed}_m{M}.json").write_text(json.dumps(out, indent=1))
 
 
 def main() -> None:
+    """Command line."""
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("what", choices=["tracker", "learn", "table"])
     p.add_argument("--out", default="docs/figures/camera")
     p.add_argument("--postures", type=int, default=200)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--movements", type=int, default=1000)
+    p.add_argument("--perfect-only", action="store_true", help="babble on perfect readings only (no rendering)")
     args = p.parse_args()
     {"tracker": tracker_study, "learn": learn_study, "table": table}[args.what](args)
 
 
 def table(args: argparse.Namespace) -> None:
+    """Print the seeds' results."""
     files = sorted(Path(args.out).glob("learn_seed*_m*.json"))
     rows = [json.loads(f.read_text()) for f in files]
     for r in rows:

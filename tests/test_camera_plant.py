@@ -87,7 +87,7 @@ def test_a_missing_gl_backend_is_one_line(monkeypatch: pytest.MonkeyPatch) -> No
 
     monkeypatch.setattr(mujoco, "Renderer", broken)
     monkeypatch.setenv("MUJOCO_GL", "egl")
-    with pytest.raises(CameraError, match="cannot render offscreen with MUJOCO_GL=egl.*libegl1") as info:
+    with pytest.raises(CameraError, match=r"cannot render offscreen with MUJOCO_GL=egl.*libegl1") as info:
         MujocoPlant("so101", camera="side", meshes=False)
     assert "\n" not in str(info.value)
 

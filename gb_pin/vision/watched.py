@@ -1,7 +1,8 @@
 """WatchedRobot: a robot that moves, watched by a camera: the learner's task is the camera's frame.
 
 >>> plant = MujocoPlant("so101", kp=10, camera="side")                            # doctest: +SKIP
->>> robot = WatchedRobot(plant, CameraSensor(plant, ArucoTracker(plant.camera.intrinsics(), 0.025)))  # doctest: +SKIP
+>>> tracker = ArucoTracker(plant.camera.intrinsics(), 0.025)                       # doctest: +SKIP
+>>> robot = WatchedRobot(plant, CameraSensor(plant, tracker))                      # doctest: +SKIP
 >>> robot.targets = robot.teach_box(corner_postures)     # goals shown, not typed  # doctest: +SKIP
 >>> result = gb_pin.babble(robot, movements=3000)                                 # doctest: +SKIP
 
@@ -132,7 +133,7 @@ class WatchedRobot(FunctionTarget):
         return np.array([self.teach(q, readings) for q in check.points("postures", postures, self.n_joints)])
 
     def teach_box(self, corners: ArrayLike, per_axis: int = 4, readings: int = 10) -> NDArray[np.float64]:
-        """A goal grid over the places where the arm is held: 2 or 8 corner postures (x fastest), see goal_box."""
+        """A goal grid over places the arm is held at: 2 or 8 corner postures (x fastest; goal_box)."""
         return goal_box(self.teach_all(corners, readings), per_axis)
 
     def __repr__(self) -> str:
