@@ -162,5 +162,6 @@ def test_teach_averages_and_goal_box_spans_taught_corners() -> None:
     grid = goal_box(corners, 4, shrink=0.5)
     expected = (goal_box([[0, 0, 0], [1, 1, 1]], 4, shrink=0.5)) @ R.T + 5.0
     assert grid == pytest.approx(expected)
-    with pytest.raises(InvalidArgumentError, match="corners"):
+    with pytest.raises(InvalidArgumentError, match="span no box"):
         goal_box(np.zeros((3, 3)))
+    assert goal_box(unit[:, :2], 2).tolist() == [[0, 0], [0, 1], [1, 0], [1, 1]]  # 8 points in 2-D: a box

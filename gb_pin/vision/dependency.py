@@ -7,6 +7,7 @@ naming the extra to install.
 
 from __future__ import annotations
 
+import os
 from types import ModuleType
 
 from gb_pin.exceptions import CameraError
@@ -20,6 +21,8 @@ def require_cv2() -> ModuleType:
     Raises:
         CameraError: OpenCV is not installed or too old; the message says how to install it, in one line.
     """
+    # OpenCV's own warnings (a camera index that does not open prints two) would add lines to our one
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
     try:
         import cv2
     except ImportError as exc:

@@ -55,9 +55,9 @@ def goal_box(
     """A goal grid (N, n) over taught corners.
 
     Args:
-        corners: two opposite corners (2, n) (a box along the frame's axes), or 2^n corners
-            (2^n, n) of a box shown corner by corner in the order of :data:`CORNERS` (n = 3; a
-            grid along its edges, by trilinear interpolation).
+        corners: two opposite corners (2, n) (a box along the frame's axes), or the 8 corners
+            (8, 3) of a box shown corner by corner in the order of :data:`CORNERS` (a grid along
+            its edges, by trilinear interpolation), or any other set of points (their bounding box).
         per_axis: points per axis (one number or one per axis).
         shrink: the grid over this fraction of the box about its centre (e.g. 0.75 for test points
             inside the goal box).
@@ -66,12 +66,13 @@ def goal_box(
         InvalidArgumentError: another number of corners, non-finite corners, a bad count or shrink.
     """
     C = np.asarray(corners, dtype=np.float64)
-    if C.ndim != 2 or C.shape[0] not in (2, 2 ** C.shape[1]) or not np.all(np.isfinite(C)):
-        raise InvalidArgumentError(
-            "corners must be 2 opposite corners (2, n) or the 2^n corners of a box, finite; "
-            f"got shape {C.shape}"
-        )
+    if C.ndim != 2 or C.shape[0] < 2 or not np.all(np.isfinite(C)):
+        raise InvalidArgumentError(f"corners must be at least 2 finite points (k, n), got shape {C.shape}")
     n = C.shape[1]
+    if C.shape[0] != 2 and (n != 3 or C.shape[0] != 8):  # any other set: its bounding box
+        C = np.array([C.min(axis=0), C.max(axis=0)])
+    if np.any(np.ptp(C, axis=0) <= 0):
+        raise InvalidArgumentError(f"the taught corners span no box (a flat or repeated corner): {C.tolist()}")
     counts = (per_axis,) * n if isinstance(per_axis, int) else tuple(per_axis)
     if len(counts) != n:
         raise InvalidArgumentError(f"per_axis needs {n} counts, got {per_axis!r}")
@@ -83,8 +84,6 @@ def goal_box(
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, n)  # (N, n) in [0, 1]^n
     if C.shape[0] == 2:
         return C[0] + grid * (C[1] - C[0])
-    if n != 3:
-        raise InvalidArgumentError("a box of 2^n corners is taught in 3-D only; give two opposite corners")
     out = np.zeros((grid.shape[0], n))
     for corner, (i, j, k) in zip(C, CORNERS, strict=True):
         w = (grid[:, 0] if i else 1 - grid[:, 0]) * (grid[:, 1] if j else 1 - grid[:, 1])
