@@ -165,3 +165,15 @@ def test_teach_averages_and_goal_box_spans_taught_corners() -> None:
     with pytest.raises(InvalidArgumentError, match="span no box"):
         goal_box(np.zeros((3, 3)))
     assert goal_box(unit[:, :2], 2).tolist() == [[0, 0], [0, 1], [1, 0], [1, 1]]  # 8 points in 2-D: a box
+
+
+def test_external_robot_from_a_preset_with_goals_in_the_camera_frame() -> None:
+    from gb_pin.robot.external import ExternalRobot
+
+    goals = goal_box([[-0.05, -0.04, 0.45], [0.05, 0.04, 0.55]], 3)
+    robot = ExternalRobot.from_preset("so101", targets=goals)
+    preset = ExternalRobot.from_preset("so101")
+    assert np.array_equal(robot.targets, goals) and robot.preset == "so101"
+    assert np.array_equal(robot.home, preset.home) and np.array_equal(robot.upper, preset.upper)
+    with pytest.raises(InvalidArgumentError, match="targets"):
+        ExternalRobot.from_preset("so101", targets=np.zeros((4, 2)))
