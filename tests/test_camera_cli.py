@@ -1,4 +1,4 @@
-"""`gb-pin babble --sensor aruco:...`: learning in the camera's frame from the command line, and its errors."""
+"""`gb-pin babble --sensor aruco:...`: learning in the camera's frame from the command line; errors."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 pytest.importorskip("mujoco")
 pytest.importorskip("cv2")
 
-from gb_pin.cli import main  # noqa: E402
+from gb_pin.cli import main
 
 
 def _error(capsys, args: list[str]) -> str:  # type: ignore[no-untyped-def]
@@ -29,7 +29,7 @@ def test_camera_errors_are_one_line_before_anything_moves(capsys) -> None:  # ty
 
 @pytest.mark.parametrize("mode", ["xyz", "uv"])
 def test_a_camera_run_from_the_cli(capsys, mode: str) -> None:  # type: ignore[no-untyped-def]
-    """A few movements in the camera's frame (goals taught at the box's corners); pixels scaled by depth / f."""
+    """A few movements in the camera's frame (goals taught at the corners); pixels scaled by depth / f."""
     assert main(["babble", "--robot", "so101", "--plant", "mujoco:kp=10,camera=side,meshes=0",
                  "--sensor", f"aruco:size=0.025,id=7,mode={mode},readings=2", "--movements", "3",
                  "--quiet"]) == 0  # fmt: skip

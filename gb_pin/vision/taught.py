@@ -72,7 +72,7 @@ def goal_box(
     if C.shape[0] != 2 and (n != 3 or C.shape[0] != 8):  # any other set: its bounding box
         C = np.array([C.min(axis=0), C.max(axis=0)])
     if np.any(np.ptp(C, axis=0) <= 0):
-        raise InvalidArgumentError(f"the taught corners span no box (a flat or repeated corner): {C.tolist()}")
+        raise InvalidArgumentError(f"the taught corners span no box (flat or repeated): {C.tolist()}")
     counts = (per_axis,) * n if isinstance(per_axis, int) else tuple(per_axis)
     if len(counts) != n:
         raise InvalidArgumentError(f"per_axis needs {n} counts, got {per_axis!r}")
