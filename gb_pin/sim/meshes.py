@@ -64,16 +64,20 @@ def decimate(
     """Vertex clustering: (vertices (V, 3), faces (F, 3)) with vertices merged on a ``grid`` [m] lattice."""
     points = triangles.reshape(-1, 3)
     cells = np.floor(points / grid).astype(np.int64)
-    keys, inverse = np.unique(cells, axis=0, return_inverse=True)
+    cells -= cells.min(axis=0)
+    span = cells.max(axis=0) + 1
+    keys, inverse = np.unique(
+        (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2], return_inverse=True
+    )
     inverse = inverse.ravel()
-    sums = np.zeros((len(keys), 3))
-    np.add.at(sums, inverse, points)
-    vertices = sums / np.bincount(inverse, minlength=len(keys))[:, None]
+    count = np.bincount(inverse, minlength=len(keys)).astype(float)[:, None]
+    vertices = np.column_stack([np.bincount(inverse, points[:, a], len(keys)) for a in range(3)]) / count
     faces = inverse.reshape(-1, 3)
-    keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
-    faces = np.unique(np.sort(faces[keep], axis=1), axis=0, return_index=True)[1]
-    faces = inverse.reshape(-1, 3)[keep][np.sort(faces)]
-    return vertices, faces.astype(np.int64)
+    faces = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])]
+    s = np.sort(faces, axis=1)
+    n = len(keys)
+    _, first = np.unique((s[:, 0] * n + s[:, 1]) * n + s[:, 2], return_index=True)  # one of each triangle
+    return vertices, faces[np.sort(first)].astype(np.int64)
 
 
 def stl_bytes(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> bytes:
@@ -84,13 +88,30 @@ def stl_bytes(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> bytes:
     return b"gb_pin decimated mesh".ljust(80, b" ") + struct.pack("<I", len(faces)) + rec.tobytes()
 
 
+_CACHE: dict[tuple[Any, ...], list[Visual]] = {}
+
+
 def visuals(target: Any, grid: float = GRID) -> list[Visual]:
     """The decimated visual meshes of ``target`` on its moved bodies; [] when it has none.
+
+    Loading the meshes through Pinocchio builds their collision trees (seconds): the result is
+    kept per process for the same URDF, joints, reference posture and grid.
 
     Args:
         target: a :class:`~gb_pin.robot.target.KinematicTarget` built from a URDF.
         grid: the decimation grid [m].
     """
+    urdf = getattr(target, "urdf", None)
+    key = (urdf, tuple(target.joints), np.asarray(target.reference, float).tobytes(), float(grid))
+    if urdf is not None and key in _CACHE:
+        return _CACHE[key]
+    out = _visuals(target, grid)
+    if urdf is not None:
+        _CACHE[key] = out
+    return out
+
+
+def _visuals(target: Any, grid: float) -> list[Visual]:
     import pinocchio as pin
 
     try:
