@@ -124,8 +124,8 @@ def _corner_postures(target: Any) -> np.ndarray:
     return np.asarray(solve(target, corners, seed="home").postures)
 
 
-def camera_summary(robot: Any) -> str | None:
-    """The summary's ``camera`` line: tracker, pictures read and lost, units; None: no camera."""
+def camera_summary(robot: Any, error: float | None = None) -> str | None:
+    """The summary's ``camera`` line: tracker, pictures read and lost, units (E^X in pixels); None: no camera."""
     sensor = getattr(robot, "camera_sensor", None)
     if sensor is None:
         return None
