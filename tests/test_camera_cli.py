@@ -35,4 +35,4 @@ def test_a_camera_run_from_the_cli(capsys, mode: str) -> None:  # type: ignore[n
                  "--quiet"]) == 0  # fmt: skip
     text = capsys.readouterr().out
     assert "camera           ArucoTracker" in text and " 0 without the marker" in text
-    assert ("pixels x" in text) == (mode == "uv")
+    assert ("pixels x" in text and " px" in text) == (mode == "uv")

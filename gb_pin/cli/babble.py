@@ -183,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"goals            {state.goals!r}")
     if (plant_line := plant_summary(args, getattr(robot, "robot", robot))) is not None:
         print(plant_line)
-    if (camera_line := camera_options.camera_summary(robot)) is not None:
+    if (camera_line := camera_options.camera_summary(robot, result.error)) is not None:
         print(camera_line)
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")

@@ -125,7 +125,7 @@ def _corner_postures(target: Any) -> np.ndarray:
 
 
 def camera_summary(robot: Any, error: float | None = None) -> str | None:
-    """The summary's ``camera`` line: tracker, pictures read and lost, units (E^X in pixels); None: no camera."""
+    """The summary's ``camera`` line: tracker, pictures and lost ones, units, E^X in pixels; None: no camera."""
     sensor = getattr(robot, "camera_sensor", None)
     if sensor is None:
         return None
@@ -133,6 +133,8 @@ def camera_summary(robot: Any, error: float | None = None) -> str | None:
     units = (
         "m in the camera's frame" if metric else f"pixels x {sensor.scale:.3g} m/px (depth / focal at home)"
     )
+    if not metric and error is not None:
+        units += f"; E^X = {error / sensor.scale:.2f} px"
     return (
         f"camera           {sensor.tracker!r}; {sensor.reads} pictures, {sensor.lost} without the marker; "
         f"task units: {units}"
