@@ -125,7 +125,7 @@ def _corner_postures(target: Any) -> np.ndarray:
 
 
 def camera_summary(robot: Any, error: float | None = None) -> str | None:
-    """The summary's ``camera`` line: tracker, pictures and lost ones, units, E^X in pixels; None: no camera."""
+    """The summary's ``camera`` line: tracker, pictures, lost ones, units, E^X in pixels; None: none."""
     sensor = getattr(robot, "camera_sensor", None)
     if sensor is None:
         return None
