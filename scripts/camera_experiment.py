@@ -165,6 +165,12 @@ def learn_study(args: argparse.Namespace) -> None:
         wall = time.perf_counter() - t0
         obs = observe or (lambda q, b=body: b.forward(q))
         row = errors(result, obs)
+        if name == "perfect":  # the same model, its feedback corrections read through the camera
+            seen = errors(result, robot.observe)
+            row["feedback_camera_mm"], row["feedback_camera_p90_mm"] = (
+                seen["feedback_mm"],
+                seen["feedback_p90_mm"],
+            )
         row.update({
             "wall_s": wall, "asks": plant.asks - asks0, "frames": plant.camera.frames - frames0,
             "missing": int(result.missing), "prototypes": int(result.n_prototypes),
