@@ -46,6 +46,10 @@ class SimulationError(GbPinError):
     """The physics simulator cannot start (MuJoCo missing) or cannot simulate what was asked."""
 
 
+class CameraError(GbPinError):
+    """A camera cannot open or deliver a frame, OpenCV is missing, or no GL backend renders the plant."""
+
+
 class GbPinWarning(UserWarning):
     """Base class of the warnings gb_pin emits."""
 

@@ -192,7 +192,8 @@ def test_no_import_cycles_even_through_imports_inside_functions() -> None:
 def test_layers_import_only_downwards() -> None:
     """learn imports no other layer; robot no runs/experiments/viewer/cli/reproduce; ik only learn; no cli.
 
-    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only robot and learn.
+    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only robot, learn and
+    vision (a rendering plant's marker texture and intrinsics); vision only robot and learn.
     """
     mods = _modules()
     graph = {m: _imports(p, m, set(mods)) for m, p in mods.items()}
@@ -202,7 +203,15 @@ def test_layers_import_only_downwards() -> None:
         # ik resolves a preset name through the robot layer's presets (gb_pin.ik.robot.resolve, inside the
         # function): nothing else of the robot layer, and no pinocchio for a chain given as arrays
         "gb_pin.ik": ("gb_pin.ik", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions", "gb_pin.robot.presets"),
-        "gb_pin.sim": ("gb_pin.sim", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
+        "gb_pin.sim": (
+            "gb_pin.sim",
+            "gb_pin.robot",
+            "gb_pin.learn",
+            "gb_pin.vision",
+            "gb_pin._",
+            "gb_pin.exceptions",
+        ),
+        "gb_pin.vision": ("gb_pin.vision", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
     }
     for m, deps in graph.items():
         for layer, ok in allowed_below.items():
@@ -238,6 +247,18 @@ def test_only_gb_pin_sim_imports_mujoco_and_importing_gb_pin_loads_it_nowhere() 
         "import importlib, sys\n"
         f"for n in {names!r}: importlib.import_module(n)\n"
         "print('mujoco' in sys.modules)"
+    )
+    assert _run(code).strip() == "False"
+
+
+def test_only_gb_pin_vision_imports_opencv_and_importing_gb_pin_loads_it_nowhere() -> None:
+    """OpenCV (the vision extra) is imported by gb_pin.vision.dependency alone, and only when it is used."""
+    mods = _modules()
+    users = sorted(m for m, p in mods.items() if "cv2" in _third_party_imports(p))
+    assert users == ["gb_pin.vision.dependency"], users
+    names = [m for m in mods if not m.startswith("gb_pin.viewer") and not m.endswith("__main__")]
+    code = (
+        f"import importlib, sys\nfor n in {names!r}: importlib.import_module(n)\nprint('cv2' in sys.modules)"
     )
     assert _run(code).strip() == "False"
 

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import gb_pin.cli.body_options as body_options
 from gb_pin.cli.arm import add_arm_options
+from gb_pin.cli import camera_options
 from gb_pin.cli.goal_options import add_goal_options, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
@@ -169,6 +170,8 @@ def run(args: argparse.Namespace) -> int:
         print(line, flush=True)
     if not args.resume:
         robot = body_options.plant(args, robot)  # --plant: the robot as it is, not its model
+        if camera_options.wants_camera(args):  # --sensor aruco: learn in the camera's frame
+            robot = camera_options.watched_robot(args, robot, goal_args.pop("targets", None))
         goal_args = {**goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step}
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
@@ -189,8 +192,10 @@ def run(args: argparse.Namespace) -> int:
     state = result.state
     if args.goals is not None and state is not None:
         print(f"goals            {state.goals!r}")
-    if (plant_line := plant_summary(args, robot)) is not None:
+    if (plant_line := plant_summary(args, getattr(robot, "robot", robot))) is not None:
         print(plant_line)
+    if (camera_line := camera_options.camera_summary(robot, result.error)) is not None:
+        print(camera_line)
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:

@@ -17,11 +17,13 @@ from gb_pin._names import suggest
 from gb_pin.exceptions import InvalidArgumentError
 
 PlantBuilder = Callable[[Any, dict[str, Any]], Any]
-PLANTS: dict[str, tuple[dict[str, float | None], PlantBuilder, str]] = {}
+PLANTS: dict[str, tuple[dict[str, float | str | None], PlantBuilder, str]] = {}
 """Plant kinds: name -> (keys with their defaults (None: "auto"), builder(robot, values), help)."""
 
 
-def register_plant(name: str, defaults: dict[str, float | None], build: PlantBuilder, text: str) -> None:
+def register_plant(
+    name: str, defaults: dict[str, float | str | None], build: PlantBuilder, text: str
+) -> None:
     """Make ``--plant NAME[:key=value,...]`` build ``build(robot, values)``."""
     PLANTS[name] = (defaults, build, text)
 
@@ -62,7 +64,8 @@ def add_body_options(b: argparse.ArgumentParser) -> None:
         "--sensor",
         default=None,
         help="observe the hand through a sensor: noise=M (std per axis [m]),loss=P (missing readings),"
-        "seed=S, e.g. noise=0.0015,loss=0.1",
+        "seed=S, e.g. noise=0.0015,loss=0.1; or a camera and an ArUco marker, learning in the camera's "
+        "frame: aruco:size=0.025,id=7,camera=0,calib=cam.yaml,mode=xyz|uv (docs/CAMERA.md)",
     )
     b.add_argument(
         "--max-joint-step",
@@ -72,12 +75,12 @@ def add_body_options(b: argparse.ArgumentParser) -> None:
     )
 
 
-def _default(value: float | None) -> str:
-    return "auto" if value is None else f"{value:g}"
+def _default(value: float | str | None) -> str:
+    return "auto" if value is None else value if isinstance(value, str) else f"{value:g}"
 
 
-def parse_spec(option: str, text: str, defaults: dict[str, float | None]) -> dict[str, Any]:
-    """``key=value,...`` over ``defaults``' keys, numbers only.
+def parse_spec(option: str, text: str, defaults: dict[str, float | str | None]) -> dict[str, Any]:
+    """``key=value,...`` over ``defaults``' keys: numbers, or words where the default is a word.
 
     Raises:
         InvalidArgumentError: an unknown key (the closest named), a value that is not a finite number.
@@ -88,6 +91,9 @@ def parse_spec(option: str, text: str, defaults: dict[str, float | None]) -> dic
         key = key.strip()
         if not sep or key not in defaults:
             raise InvalidArgumentError(f"{option}: unknown key {key!r}; {suggest(key, list(defaults))}")
+        if isinstance(defaults[key], str):
+            values[key] = raw.strip()
+            continue
         try:
             value = float(raw)
         except ValueError:
@@ -119,8 +125,8 @@ def sensor(args: argparse.Namespace) -> Any:
     Raises:
         InvalidArgumentError: an unknown key or a bad value.
     """
-    if getattr(args, "sensor", None) is None:
-        return None
+    if getattr(args, "sensor", None) is None or str(args.sensor).startswith("aruco"):
+        return None  # (a camera: gb_pin.cli.camera_options builds the watched robot)
     from gb_pin.learn.sensor import Sensor
 
     values = parse_spec("--sensor", args.sensor, {"noise": 0.0, "loss": 0.0, "seed": 0})

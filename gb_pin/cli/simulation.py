@@ -14,7 +14,7 @@ from typing import Any
 from gb_pin.cli.body_options import register_plant
 from gb_pin.exceptions import InvalidArgumentError
 
-DEFAULTS: dict[str, float | None] = {
+DEFAULTS: dict[str, float | str | None] = {
     "kp": 10.0,
     "damping": None,
     "force_limit": None,
@@ -27,6 +27,9 @@ DEFAULTS: dict[str, float | None] = {
     "noise": 0.0,
     "loss": 0.0,
     "seed": 0.0,
+    "camera": "none",
+    "meshes": 1.0,
+    "pixel_noise": 3.0,
 }
 """The keys of ``--plant mujoco``: MujocoPlant's arguments (None: its default)."""
 
@@ -42,6 +45,10 @@ def mujoco_plant(robot: Any, values: dict[str, Any]) -> Any:
 
     require_mujoco()
     given = {k: v for k, v in values.items() if v is not None}
+    given["camera"] = None if given["camera"] in ("none", "") else given["camera"]
+    if given["meshes"] not in (0.0, 1.0):
+        raise InvalidArgumentError(f"--plant mujoco: meshes must be 1 or 0, got {given['meshes']:g}")
+    given["meshes"] = bool(given["meshes"])
     gravity = given["gravity"]
     if gravity not in (0.0, 1.0):
         raise InvalidArgumentError(f"--plant mujoco: gravity must be 1 (on) or 0 (off), got {gravity:g}")
@@ -60,7 +67,8 @@ register_plant(
     "simulated by MuJoCo: servo gain kp [N m/rad], damping [N m s/rad] (auto: 0.05 kp), force_limit [N m] "
     "(auto: none), armature [kg m^2], gravity 1/0; each ask held until at rest (tolerance [rad/s], auto "
     "0.01) for at most settle [s] (auto 0.5), or exactly period [s]; noise [m], loss and seed of the "
-    "readings; needs pip install 'gb_pin[sim]' (docs/SIMULATION.md)",
+    "readings; camera=side|front renders it (with --sensor aruco: docs/CAMERA.md), meshes 1/0, "
+    "pixel_noise [grey levels]; needs pip install 'gb_pin[sim]' (docs/SIMULATION.md)",
 )
 
 

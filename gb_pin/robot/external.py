@@ -53,18 +53,25 @@ class ExternalRobot(BlackBox):
         self.name = str(name)
 
     @classmethod
-    def from_preset(cls, name: str) -> ExternalRobot:
+    def from_preset(cls, name: str, targets: ArrayLike | None = None) -> ExternalRobot:
         """The real robot a preset describes: its home, limits and goal set, none of its kinematics.
 
         Runs on it take the preset's learner defaults (e.g. the SO-101's radius).
 
+        Args:
+            name: the preset.
+            targets: a goal set of its own (N, n), e.g. taught in a camera's frame (docs/CAMERA.md);
+                default the preset's (in the URDF's base frame).
+
         Raises:
             UnknownRobotError: unknown preset name.
+            InvalidArgumentError: targets of another task dimension or not finite.
         """
         from gb_pin.robot.presets import load_robot
 
         model = load_robot(name)
-        targets = model.targets if model.targets is not None else model.auto_targets()
+        if targets is None:
+            targets = model.targets if model.targets is not None else model.auto_targets()
         robot = cls(model.home, model.n_task, targets, lower=model.lower, upper=model.upper,
                     name=f"{name} (hardware)")  # fmt: skip
         robot.preset = name

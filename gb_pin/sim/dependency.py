@@ -20,6 +20,9 @@ def require_mujoco() -> ModuleType:
     Raises:
         SimulationError: MuJoCo is not installed; the message says how to install it, in one line.
     """
+    from gb_pin.sim.gl import configure
+
+    configure()  # MUJOCO_GL=egl without a display: MuJoCo reads it once, at its import
     try:
         import mujoco
     except ImportError as exc:

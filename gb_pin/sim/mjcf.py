@@ -35,7 +35,13 @@ MIN_INERTIA = 1e-9
 
 
 def mjcf(
-    target: Any, servos: Servos, *, gravity: bool = True, timestep: float = 0.002, name: str = "robot"
+    target: Any,
+    servos: Servos,
+    *,
+    gravity: bool = True,
+    timestep: float = 0.002,
+    name: str = "robot",
+    scene: Any = None,
 ) -> str:
     """The MJCF text of ``target``'s moved joints, with ``servos`` on them.
 
@@ -46,6 +52,8 @@ def mjcf(
         gravity: Pinocchio's gravity (``model.gravity``) on, or none.
         timestep: the integration step [s].
         name: the model's name.
+        scene: what a camera sees (:class:`~gb_pin.sim.scene.Scene`: meshes, floor, lights, the
+            marker plate, the camera), drawn only: no mass, no contact; None: no geometry.
 
     Raises:
         InvalidArgumentError: a robot without a Pinocchio model or inertias.
@@ -83,12 +91,16 @@ def mjcf(
         )
         if chain.frame_parent == i:
             lines.append(f'{pad}  <site name="frame" pos={_v(chain.frame_translation)}/>')
+        if scene is not None:
+            lines.extend(f"{pad}  {line}" for line in scene.bodies.get(a, []))
         for c in children[i]:
             body(c, depth + 1)
         lines.append(f"{pad}</body>")
 
     if chain.frame_parent < 0:
         lines.append(f'    <site name="frame" pos={_v(chain.frame_translation)}/>')
+    if scene is not None:
+        lines.extend(f"    {line}" for line in scene.bodies.get(-1, []))
     for c in children[-1]:
         body(c, 2)
     g = np.asarray(model.gravity.linear, dtype=float) if gravity else np.zeros(3)
@@ -107,6 +119,7 @@ def mjcf(
         f'  <option timestep="{float(timestep)!r}" integrator="implicitfast" gravity={_v(g)}>',
         '    <flag contact="disable"/>',
         "  </option>",
+        *([] if scene is None else scene.header),
         "  <worldbody>",
         *lines,
         "  </worldbody>",

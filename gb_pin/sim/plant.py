@@ -30,7 +30,7 @@ checkpoints (:mod:`gb_pin.sim.snapshot`), so a resumed session continues bit-ide
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,6 +45,9 @@ from gb_pin.sim.dependency import require_mujoco
 from gb_pin.sim.equilibrium import static_posture
 from gb_pin.sim.mjcf import mjcf
 from gb_pin.sim.servos import Servos, short
+
+if TYPE_CHECKING:
+    from gb_pin.sim.camera import PlantCamera
 from gb_pin.sim.settling import Settling
 from gb_pin.sim.spec import spec_of, split_spec
 
@@ -69,6 +72,12 @@ class MujocoPlant(FunctionTarget):
         seed: the sensor's seed (the physics draws nothing).
         targets: the goal set (N, n) [m]; default the robot's (its preset's), else its "auto" grid.
         name: a label; default e.g. ``"so101 in MuJoCo (kp 10)"``.
+        camera: render the arm (docs/CAMERA.md): a preset (``"side"``, ``"front"``: 50 cm from the
+            goal box) or a :class:`~gb_pin.sim.scene.CameraPose`; None: no rendering.
+        marker: the ArUco plate on the hand (:class:`~gb_pin.sim.scene.Marker`; default id 7 of
+            DICT_4X4_50, 25 mm, 3 cm from the task frame towards the camera).
+        meshes: draw the URDF's visual meshes (decimated), else capsules.
+        pixel_noise: the camera's noise [grey levels of 255] (3: a webcam's).
 
     Attributes:
         target: the kinematic robot it was built from (its URDF kinematics: exact IK runs on it).
@@ -109,6 +118,10 @@ class MujocoPlant(FunctionTarget):
         seed: int = 0,
         targets: ArrayLike | None = None,
         name: str | None = None,
+        camera: Any = None,
+        marker: Any = None,
+        meshes: bool = True,
+        pixel_noise: float = 3.0,
     ) -> None:
         mujoco = require_mujoco()
         self._mj = mujoco
@@ -152,7 +165,47 @@ class MujocoPlant(FunctionTarget):
         )  # fmt: skip
         self.axes = getattr(self.target, "axes", None)
         self.spec = spec_of(robot_name, given)  # (after every check: the values are valid)
+        self.camera: PlantCamera | None = None
+        if camera is not None:
+            self._add_camera(camera, marker, meshes, pixel_noise)
+            if self.spec is not None:
+                self.spec = None  # (a rendering plant is not named by a string yet)
         self.reset()
+
+    def _add_camera(self, camera: Any, marker: Any, meshes: bool, pixel_noise: float) -> None:
+        """Rebuild the model with the scene (drawn only: the physics is unchanged) and a camera on it."""
+        from gb_pin.sim.camera import PlantCamera
+        from gb_pin.sim.scene import CameraPose, Marker, build_scene, preset_pose
+
+        pose = preset_pose(camera, self.target) if isinstance(camera, str) else camera
+        if not isinstance(pose, CameraPose):
+            raise InvalidArgumentError(f"camera must be a preset name or a CameraPose, got {camera!r:.80}")
+        marker = Marker() if marker is None else marker
+        if not isinstance(marker, Marker):
+            raise InvalidArgumentError(f"marker must be a gb_pin.sim.scene.Marker, got {marker!r:.80}")
+        noise = check.nonnegative_float("pixel_noise", pixel_noise)
+        chain = self.target.chain
+        if chain.frame_parent < 0 or self.target.n_task != 3:
+            raise InvalidArgumentError("a camera watches a hand on a moved link with a 3-D position task")
+        body = int(chain.q_index[chain.frame_parent])
+        rest = self.posture_at(self.home)
+        self._scratch.qpos[self._dofs] = rest
+        self._mj.mj_kinematics(self.mj_model, self._scratch)
+        link = self._scratch.body(f"link_{body}")
+        R_home = np.array(link.xmat).reshape(3, 3)
+        p_home = np.array(self._scratch.site("frame").xpos)
+        scene = build_scene(
+            self.target, pose, marker, (body, chain.frame_translation, R_home, p_home), meshes
+        )
+        self.text = mjcf(self.target, self.servos, gravity=self.gravity, timestep=self.timestep,
+                         name=self.target.name, scene=scene)  # fmt: skip
+        self.mj_model = self._mj.MjModel.from_xml_string(self.text, scene.assets)
+        self.mj_data = self._mj.MjData(self.mj_model)
+        self._scratch = self._mj.MjData(self.mj_model)
+        self._settings = snapshot.digest(self.text, repr(self.settling), repr(self.tracker), repr(noise))
+        self.scene = scene
+        self._marker_body = f"link_{body}"
+        self.camera = PlantCamera(self._mj, self.mj_model, scene, noise, self.seed)
 
     @classmethod
     def from_spec(cls, spec: str) -> MujocoPlant:
@@ -195,10 +248,7 @@ class MujocoPlant(FunctionTarget):
             arr = check.points("q", q, self.n_joints)
             rows = [self.forward(row) for row in arr]
             return np.array([np.full(self.n_task, np.nan) if r is None else r for r in rows])
-        command = check.vector("q", q, self.n_joints)
-        self.mj_data.ctrl[:] = command
-        self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data)
-        self.asks += 1
+        self.move(q)
         x = self._task(self.mj_data.qpos[self._dofs])
         if self.tracker.ideal:  # (the compiled sensor's call costs 35 us: skipped when it would do nothing)
             return x
@@ -247,6 +297,53 @@ class MujocoPlant(FunctionTarget):
         """The learner's task vector at joint positions ``posture`` (a fresh array)."""
         body_forward(np.ascontiguousarray(posture), self._body, self._x)
         return self._x.copy()
+
+    # -- the camera (a rendering plant) ------------------------------------------------------
+    def _camera(self) -> PlantCamera:
+        if self.camera is None:
+            raise InvalidArgumentError("this plant has no camera: MujocoPlant(..., camera='side')")
+        return self.camera
+
+    def move(self, q: ArrayLike) -> None:
+        """Command ``q`` (m,) and simulate by the settling rule, reading nothing (a camera reads after)."""
+        self.mj_data.ctrl[:] = check.vector("q", q, self.n_joints)
+        self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data)
+        self.asks += 1
+
+    def render(self) -> NDArray[np.uint8]:
+        """The camera's picture of the arm now (H, W, 3) uint8 RGB, without noise.
+
+        Raises:
+            InvalidArgumentError: a plant without a camera.
+        """
+        return self._camera().render(self.mj_data)
+
+    def read(self) -> NDArray[np.uint8]:
+        """A webcam's picture of the arm now (H, W, 3) uint8 BGR with pixel noise (the plant is a camera)."""
+        return self._camera().read(self.mj_data)
+
+    def marker_position(self, posture: ArrayLike | None = None) -> NDArray[np.float64]:
+        """The marker's centre in the world (3,) [m] at joint positions ``posture`` (default: now)."""
+        camera = self._camera()
+        if posture is None:
+            data = self.mj_data
+        else:
+            data = self._scratch
+            data.qpos[self._dofs] = check.vector("posture", posture, self.n_joints)
+            self._mj.mj_kinematics(self.mj_model, data)
+        body = data.body(self._marker_body)
+        return np.array(body.xpos) + np.array(body.xmat).reshape(3, 3) @ camera.scene.marker_offset
+
+    def true_marker(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Where the marker's centre rests under the command ``q``, in the camera frame (3,) [m].
+
+        (N, m) commands give (N, 3). No lag, no noise, the arm not moved: the truth E^X is measured on.
+        """
+        camera = self._camera()
+        single = np.ndim(q) == 1
+        Q = check.points("q", q, self.n_joints, allow_single=True)
+        out = np.array([camera.pose.to_camera(self.marker_position(self.posture_at(c))) for c in Q])
+        return out[0] if single else out
 
     # -- goal sets: the kinematic robot's -----------------------------------------------------
     def auto_targets(self) -> NDArray[np.float64]:
