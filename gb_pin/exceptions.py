@@ -60,3 +60,11 @@ class ExtrapolationWarning(GbPinWarning):
 
 class ViewerWarning(GbPinWarning):
     """A viewer could not start; the run goes on without it."""
+
+
+class UnsafeSetupError(InvalidArgumentError):
+    """A safe run cannot start (raised before anything moves).
+
+    An obstacle touches the arm at home, goals lie inside an obstacle, the robot has no collision
+    geometry, ...
+    """

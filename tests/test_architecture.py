@@ -192,7 +192,8 @@ def test_no_import_cycles_even_through_imports_inside_functions() -> None:
 def test_layers_import_only_downwards() -> None:
     """learn imports no other layer; robot no runs/experiments/viewer/cli/reproduce; ik only learn; no cli.
 
-    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only robot and learn.
+    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only safety, robot and
+    learn; safety only robot and learn.
     """
     mods = _modules()
     graph = {m: _imports(p, m, set(mods)) for m, p in mods.items()}
@@ -202,7 +203,15 @@ def test_layers_import_only_downwards() -> None:
         # ik resolves a preset name through the robot layer's presets (gb_pin.ik.robot.resolve, inside the
         # function): nothing else of the robot layer, and no pinocchio for a chain given as arrays
         "gb_pin.ik": ("gb_pin.ik", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions", "gb_pin.robot.presets"),
-        "gb_pin.sim": ("gb_pin.sim", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
+        "gb_pin.sim": (
+            "gb_pin.sim",
+            "gb_pin.safety",
+            "gb_pin.robot",
+            "gb_pin.learn",
+            "gb_pin._",
+            "gb_pin.exceptions",
+        ),
+        "gb_pin.safety": ("gb_pin.safety", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
     }
     for m, deps in graph.items():
         for layer, ok in allowed_below.items():
