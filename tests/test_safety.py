@@ -144,3 +144,40 @@ def test_collision_matrix_keeps_every_pair_that_collides(robot: str) -> None:
     hits = pair_contacts(target, geometry, candidates, sample_postures(target.lower, target.upper, 300, 1))
     missed = [candidates[p] for p in np.nonzero(hits)[0] if matrix.reason[candidates[p]] != ENABLED]
     assert missed == []
+
+
+def test_mujoco_plant_with_contacts_agrees_with_the_checker_and_counts_no_contact() -> None:
+    """MuJoCo's contacts (the same shapes and pairs, no margin) agree with coal's.
+
+    A checked run of the SO-101 around the post never touches in physics; an unchecked ask into the
+    table does.
+    """
+    pytest.importorskip("mujoco")
+    import pinocchio as pin
+
+    from gb_pin.sim import MujocoPlant
+
+    obstacles = [Table(0.0), POST]
+    plant = MujocoPlant("so101", kp=100.0, obstacles=obstacles, self_collision=True)
+    checker = plant.collision
+    mj, model, data = plant._mj, plant.mj_model, plant._scratch
+    postures = sample_postures(checker.target.lower, checker.target.upper, 60, 5)
+    disagree = 0
+    for q in postures:
+        data.qpos[plant._dofs] = q
+        mj.mj_forward(model, data)
+        gd = checker.collision_model.createData()
+        touch = pin.computeCollisions(checker._model, checker._data, checker.collision_model, gd,
+                                      checker.target.to_pinocchio(q), True)  # fmt: skip
+        disagree += bool(touch) != (data.ncon > 0)
+    assert disagree <= 2  # (contacts within rounding of touching may differ)
+    result = gb_pin.babble(plant, movements=5, seed=1, obstacles=obstacles, self_collision=True,
+                           targets=so101_goals())  # fmt: skip
+    assert result.checked_asks == 5 * 25
+    assert plant.collision.asks == 5 * 25  # the plant's own checker served the run
+    assert plant.contacts == 0
+    into_table = next(
+        q for q in postures if not checker.is_safe(q) and checker.contacts(q)[0][1] == "obstacle_0"
+    )
+    plant.forward(into_table)  # unchecked: the arm hits the table
+    assert plant.contacts > 0

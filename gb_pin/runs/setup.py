@@ -243,9 +243,16 @@ def safety_guard(spec: RunSpec, target: Any, X: NDArray[np.float64]) -> Any:
             "safe babbling (obstacles, self_collision) needs a robot with a Pinocchio model, "
             f"got {target!r:.100}"
         )
-    checker = CollisionChecker(
-        kinematic, spec.obstacles or (), self_collision=spec.self_collision,
-        geometry=spec.collision_geometry, clearance=spec.clearance,
-    )  # fmt: skip
+    checker = getattr(target, "collision", None)  # a simulated plant's, with contacts on
+    if not (
+        isinstance(checker, CollisionChecker)
+        and checker.same_setup(
+            spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance
+        )
+    ):
+        checker = CollisionChecker(
+            kinematic, spec.obstacles or (), self_collision=spec.self_collision,
+            geometry=spec.collision_geometry, clearance=spec.clearance,
+        )  # fmt: skip
     checker.check_setup(X)
     return checker

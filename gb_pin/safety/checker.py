@@ -80,6 +80,7 @@ class CollisionChecker:
         self.target = target
         self.obstacles = check_obstacles(obstacles)
         self.clearance = check.positive_float("clearance", clearance)
+        self.self_collision = bool(self_collision)
         if not self.obstacles and not self_collision:
             raise UnsafeSetupError("nothing to check: give obstacles or self_collision=True")
         self.geometry: RobotGeometry = robot_geometry(
@@ -199,6 +200,15 @@ class CollisionChecker:
                 dist += link[a] + (abs(span[a]) if prismatic[a] else 0.0)
                 a = int(g.parents[a])
         return lever
+
+    def same_setup(self, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> bool:
+        """Whether this checker checks exactly these (so that a plant's checker can serve a run)."""
+        return (
+            self.obstacles == check_obstacles(obstacles)
+            and self.self_collision == bool(self_collision)
+            and self.geometry.kind == geometry
+            and self.clearance == clearance
+        )
 
     # -- checks ------------------------------------------------------------------------------
     def is_safe(self, q: ArrayLike) -> bool:
