@@ -181,3 +181,33 @@ def test_mujoco_plant_with_contacts_agrees_with_the_checker_and_counts_no_contac
     )
     plant.forward(into_table)  # unchecked: the arm hits the table
     assert plant.contacts > 0
+
+
+def test_preset_safety_table_and_cli_options(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A preset's [safety] table applies to its runs; the CLI's --table/--obstacle make the same run."""
+    import dataclasses
+
+    from gb_pin.robot import presets
+
+    text = (presets._preset_bytes(presets.resources.files("gb_pin.presets") / "so101.toml")).decode()
+    text = text.replace("[learner]", '[safety]\nobstacles = [{kind = "table", height = 0.0}]\n\n[learner]')
+    preset = presets._read_preset(text.encode(), "so101.toml")
+    assert preset.safety == {"obstacles": [{"kind": "table", "height": 0.0}]}
+    with pytest.raises(InvalidArgumentError, match=r"\[safety\]"):
+        presets._read_preset(text.replace("obstacles =", "obstacle =").encode(), "so101.toml")
+    table = dict(presets._presets())
+    table["so101safe"] = dataclasses.replace(preset, name="so101safe")
+    monkeypatch.setattr(presets, "_PRESETS", table)
+    session = gb_pin.babble_session("so101safe", movements=2, seed=0)
+    assert isinstance(session.guard, CollisionChecker) and session.guard.obstacles == (Table(0.0),)
+    assert gb_pin.babble_session("so101", movements=2, seed=0).guard is None
+    from gb_pin.cli import main
+
+    argv = ["babble", "--robot", "so101", "--movements", "3", "--quiet", "--table", "0.0"]
+    assert main([*argv, "--obstacle", "box:center=0.35,0.1,0.1,half=0.02,0.02,0.1"]) == 0
+    assert "safety           75 asks checked" in capsys.readouterr().out
+    assert main([*argv[:-1], "0.2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the table (z <= 0.2 m)" in err, err

@@ -158,7 +158,10 @@ def run(args: argparse.Namespace) -> int:
         print(line, flush=True)
     if not args.resume:
         robot = body_options.plant(args, robot)  # --plant: the robot as it is, not its model
-        goal_args = {**goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step}
+        goal_args = {
+            **goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step,
+            **body_options.safety(args),
+        }  # fmt: skip
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
@@ -180,6 +183,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"goals            {state.goals!r}")
     if (plant_line := plant_summary(args, robot)) is not None:
         print(plant_line)
+    if result.checked_asks:
+        print(f"safety           {result.checked_asks} asks checked, {result.cut_asks} cut short")
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:

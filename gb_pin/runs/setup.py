@@ -222,6 +222,10 @@ def prepare(spec: RunSpec) -> Prepared:
     X = target_set(target, spec.targets)  # checked; warns about targets beyond reach
     learner = make_learner(defaults, spec.hyperparameters())
     rng, int_seed = generator(spec.seed, spec.init)
+    if not spec.safe and name is not None and "@" not in name and ":" not in name:
+        preset_safety = get_preset(name)[0].safety  # a preset's [safety] table, unless the run gives its own
+        if preset_safety:
+            spec = spec.replace(**preset_safety)
     guard = safety_guard(spec, target, X) if spec.safe else None
     return Prepared(spec, target, name, int(spec.movements), X, learner, rng, int_seed, guard)
 

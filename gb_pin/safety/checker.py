@@ -56,6 +56,8 @@ class CollisionChecker:
         srdf: an SRDF whose ``<disable_collisions>`` pairs are not checked.
         samples: postures sampled to generate the collision matrix.
         matrix: a matrix to use instead of the cached/generated one.
+        slide: an unsafe ask goes to the last safe posture of its straight move, then slides joint by
+            joint along what it touched (:meth:`slide_posture`); False: it stops at the last safe one.
 
     Raises:
         UnsafeSetupError: no collision geometry (and no capsules asked), or nothing to check.
@@ -74,6 +76,7 @@ class CollisionChecker:
         srdf: str | os.PathLike[str] | None = None,
         samples: int = DEFAULT_SAMPLES,
         matrix: CollisionMatrix | None = None,
+        slide: bool = True,
     ) -> None:
         import pinocchio as pin
 
@@ -116,6 +119,7 @@ class CollisionChecker:
         self._broadphase()
         self._lever = self._levers()
         self._factor = 2.0 if self_collision else 1.0  # two moving shapes: twice the relative motion
+        self.slide = bool(slide)  # after a cut, slide joint by joint along the obstacle (slide_posture)
         self.checks = 0  # postures checked
         self.asks = 0  # segments checked
         self.cuts = 0  # segments cut short
@@ -264,6 +268,25 @@ class CollisionChecker:
         if ok:
             return None
         self.cuts += 1
+        return self.slide_posture(q_from, q, q_to) if self.slide else q
+
+    def slide_posture(self, q_from: ArrayLike, q_cut: ArrayLike, q_to: ArrayLike) -> NDArray[np.float64]:
+        """The cut posture, then each joint's remaining move added alone where it stays safe.
+
+        Largest first, each kept where the straight move from ``q_from`` stays safe: the arm slides
+        along the obstacle, as a posture clipped to its joint limits slides along them, instead of
+        stopping where it first touched.
+        """
+        a = np.asarray(q_from, dtype=float)
+        q = np.asarray(q_cut, dtype=float).copy()
+        rest = np.asarray(q_to, dtype=float) - q
+        for i in np.argsort(-np.abs(rest) * self._lever):
+            if rest[i] == 0.0:
+                continue
+            trial = q.copy()
+            trial[i] += rest[i]
+            if self.cut(a, trial)[1]:
+                q = trial
         return q
 
     # -- bad input, before anything moves ---------------------------------------------------
