@@ -44,7 +44,8 @@ def main() -> None:
         missed = [p for p in touching if matrix.reason[p] != ENABLED]
         c = matrix.counts()
         named = [(matrix.names[i], matrix.names[j]) for i, j in missed]
-        cells = [robot, k, *c.values()][:7] + [
+        cells = [
+            *[robot, k, *c.values()][:7],
             f"{took:.1f}",
             at_home,
             len(touching),
