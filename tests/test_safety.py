@@ -211,3 +211,13 @@ def test_preset_safety_table_and_cli_options(
     assert main([*argv[:-1], "0.2"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "the table (z <= 0.2 m)" in err, err
+
+
+def test_trials_carry_obstacles_as_plain_tables() -> None:
+    """run_trials(obstacles=...) checks each trial's asks; the parameters stay plain (journals)."""
+    trials = gb_pin.run_trials("so101", trials=1, movements=2, workers=1, obstacles=[Table(0.0)])
+    assert trials.parameters["obstacles"] == [{"kind": "table", "height": 0.0}]
+    spec = gb_pin.RunSpec("so101", movements=2, obstacles=[Table(0.0)], clearance=0.02)
+    assert spec.trial_arguments()[3]["clearance"] == 0.02
+    with pytest.raises(InvalidArgumentError, match="obstacle kind"):
+        gb_pin.run_trials("so101", trials=1, movements=2, workers=1, obstacles=[{"kind": "cube"}])

@@ -172,7 +172,8 @@ class RunSpec:
             InvalidArgumentError: a field trials cannot carry (a robot object, a Generator seed,
                 a recording, body changes, ...), named.
         """
-        plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets"}
+        plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets",
+                 "obstacles", "self_collision", "collision_geometry", "clearance"}  # fmt: skip
         others = [f.name for f in dataclasses.fields(self)
                   if f.name not in plain and not _is_default(getattr(self, f.name), f.default)]  # fmt: skip
         if isinstance(self.seed, np.random.Generator):
@@ -190,6 +191,12 @@ class RunSpec:
             value = getattr(self, key)
             if value is not None:
                 args[key] = np.asarray(value, dtype=float).tolist()
+        if self.safe:
+            from gb_pin.safety.obstacles import plain as plain_obstacle
+
+            args["obstacles"] = [plain_obstacle(o) for o in self.obstacles or ()]
+            args.update(self_collision=self.self_collision, collision_geometry=self.collision_geometry,
+                        clearance=self.clearance)  # fmt: skip
         return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
 
     def replace(self, **changes: Any) -> RunSpec:

@@ -129,6 +129,15 @@ def check_obstacles(obstacles: Any) -> tuple[Obstacle, ...]:
     return tuple(out)
 
 
+def plain(obstacle: Obstacle) -> dict[str, Any]:
+    """An obstacle as a plain table (JSON, TOML), the inverse of :func:`from_dict`."""
+    if isinstance(obstacle, Table):
+        return {"kind": "table", "height": obstacle.height}
+    if isinstance(obstacle, Box):
+        return {"kind": "box", "center": list(obstacle.center), "half_extents": list(obstacle.half_extents)}  # type: ignore[arg-type]
+    return {"kind": "sphere", "center": list(obstacle.center), "radius": obstacle.radius}  # type: ignore[arg-type]
+
+
 def from_dict(table: dict[str, Any]) -> Obstacle:
     """An obstacle from a preset's table: ``{kind = "box", center = [...], half_extents = [...]}``.
 
