@@ -221,3 +221,26 @@ def test_trials_carry_obstacles_as_plain_tables() -> None:
     assert spec.trial_arguments()[3]["clearance"] == 0.02
     with pytest.raises(InvalidArgumentError, match="obstacle kind"):
         gb_pin.run_trials("so101", trials=1, movements=2, workers=1, obstacles=[{"kind": "cube"}])
+
+
+def test_srdf_disables_pairs_and_a_resumed_session_keeps_its_guard(tmp_path: Path) -> None:
+    from gb_pin.safety.matrix import SRDF, apply_srdf
+
+    target = load_robot("panda")
+    geometry = robot_geometry(target)
+    matrix = generate_matrix(target, geometry, clearance=0.01, samples=50)
+    links = geometry.links
+    i, j = matrix.pairs[0]
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text(f'<robot name="panda"><disable_collisions link1="{links[i]}" link2="{links[j]}" '
+                    'reason="Never"/></robot>')  # fmt: skip
+    assert apply_srdf(matrix, geometry, srdf).reason[i, j] == SRDF
+    checker = CollisionChecker(target, [Table(0.0)], self_collision=True, matrix=matrix, srdf=srdf)
+    assert (i, j) not in checker.matrix.pairs  # type: ignore[union-attr]
+    session = gb_pin.babble_session(target, movements=3, seed=0, checkpoint=tmp_path / "s.npz",
+                                    obstacles=[Table(0.0)])  # fmt: skip
+    while not session.done:
+        session.tell(target.forward(session.ask()))
+    session.close()
+    resumed = gb_pin.resume_session(tmp_path / "s.npz", guard=session.guard)
+    assert resumed.guard is session.guard

@@ -455,6 +455,7 @@ def resume_session(
     robot: setup.Target | None = None,
     *,
     checkpoint_every: int | None = None,
+    guard: Any = None,
 ) -> BabbleSession:
     """The session saved in a checkpoint file, ready to ask (and to keep checkpointing there).
 
@@ -464,6 +465,9 @@ def resume_session(
             an external robot, a plant, or a model the file cannot rebuild. A simulated plant
             continues from the state the checkpoint saved.
         checkpoint_every: movements between checkpoints (default a tenth of the run).
+        guard: the collision checker of a safe session (``session.guard`` of the session saved, or a
+            :class:`gb_pin.CollisionChecker` built again): checkpoints do not record obstacles, so a
+            safe session resumed without one is not checked.
 
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one of another robot.
@@ -479,7 +483,7 @@ def resume_session(
     restore_robot_state(checkpoint, robot, info.robot_state)  # a simulated plant continues where it was
     session = BabbleSession(
         robot, state, info.movements, robot=info.robot, seed=info.seed, checkpoint=checkpoint,
-        checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate,
+        checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate, guard=guard,
     )  # fmt: skip
     session.unobserved = info.unobserved
     return session
