@@ -68,6 +68,11 @@ _EXPORTS: dict[str, str] = {
     "conditions_grid": "gb_pin.experiments.trials",
     "run_sweep": "gb_pin.experiments.trials",
     "run_trials": "gb_pin.experiments.trials",
+    "Table": "gb_pin.safety.obstacles",
+    "Box": "gb_pin.safety.obstacles",
+    "Sphere": "gb_pin.safety.obstacles",
+    "CollisionChecker": "gb_pin.safety.checker",
+    "UnsafeSetupError": "gb_pin.exceptions",
 }
 
 # the same names as _EXPORTS (a literal, for linters; tests/test_architecture.py checks it)
@@ -76,7 +81,9 @@ __all__ = [
     "BabbleResult",
     "BabbleSession",
     "BabbleState",
+    "Box",
     "ChangedBody",
+    "CollisionChecker",
     "Condition",
     "DivergenceError",
     "ExternalRobot",
@@ -99,10 +106,13 @@ __all__ = [
     "RobotPreset",
     "RunSpec",
     "Sensor",
+    "Sphere",
     "Sweep",
+    "Table",
     "TrialSet",
     "UnknownRobotError",
     "UnreachableTargetWarning",
+    "UnsafeSetupError",
     "__version__",
     "babble",
     "babble_session",
@@ -138,6 +148,7 @@ if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
         ResultFileError,
         UnknownRobotError,
         UnreachableTargetWarning,
+        UnsafeSetupError,
     )
     from gb_pin.experiments.trials import Condition, Sweep, TrialSet, conditions_grid, run_sweep, run_trials
     from gb_pin.learn.body.chain import KinematicChain
@@ -161,3 +172,5 @@ if TYPE_CHECKING:  # what the lazy exports resolve to, for type checkers
     from gb_pin.runs.result import BabbleResult, load_result, save_result
     from gb_pin.runs.session import BabbleSession, babble_session, resume_session
     from gb_pin.runs.spec import RunSpec
+    from gb_pin.safety.checker import CollisionChecker
+    from gb_pin.safety.obstacles import Box, Sphere, Table

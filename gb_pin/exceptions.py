@@ -87,3 +87,11 @@ class EmergencyStopError(HardwareError):
 
 class HardwareWarning(GbPinWarning):
     """A real robot did something worth knowing that is not an error (a joint stalled short of its goal)."""
+
+
+class UnsafeSetupError(InvalidArgumentError):
+    """A safe run cannot start (raised before anything moves).
+
+    An obstacle touches the arm at home, goals lie inside an obstacle, the robot has no collision
+    geometry, ...
+    """

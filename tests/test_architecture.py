@@ -192,8 +192,8 @@ def test_no_import_cycles_even_through_imports_inside_functions() -> None:
 def test_layers_import_only_downwards() -> None:
     """learn imports no other layer; robot no runs/experiments/viewer/cli/reproduce; ik only learn; no cli.
 
-    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only robot, learn and
-    vision (a rendering plant's marker texture and intrinsics); vision only robot and learn.
+    (ik may import the robot layer's presets, to resolve a preset name.) sim imports only safety, robot, learn
+    and vision (a rendering plant's marker texture and intrinsics); vision and safety only robot and learn.
     """
     mods = _modules()
     graph = {m: _imports(p, m, set(mods)) for m, p in mods.items()}
@@ -205,6 +205,7 @@ def test_layers_import_only_downwards() -> None:
         "gb_pin.ik": ("gb_pin.ik", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions", "gb_pin.robot.presets"),
         "gb_pin.sim": (
             "gb_pin.sim",
+            "gb_pin.safety",
             "gb_pin.robot",
             "gb_pin.learn",
             "gb_pin.vision",
@@ -212,6 +213,7 @@ def test_layers_import_only_downwards() -> None:
             "gb_pin.exceptions",
         ),
         "gb_pin.vision": ("gb_pin.vision", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
+        "gb_pin.safety": ("gb_pin.safety", "gb_pin.robot", "gb_pin.learn", "gb_pin._", "gb_pin.exceptions"),
     }
     for m, deps in graph.items():
         for layer, ok in allowed_below.items():

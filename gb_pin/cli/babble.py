@@ -172,7 +172,10 @@ def run(args: argparse.Namespace) -> int:
         robot = body_options.plant(args, robot)  # --plant: the robot as it is, not its model
         if camera_options.wants_camera(args):  # --sensor aruco: learn in the camera's frame
             robot = camera_options.watched_robot(args, robot, goal_args.pop("targets", None))
-        goal_args = {**goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step}
+        goal_args = {
+            **goal_args, "sensor": body_options.sensor(args), "max_joint_step": args.max_joint_step,
+            **body_options.safety(args),
+        }  # fmt: skip
     record = _recording(args)
     compile_time = _warmup(warmup, quiet=args.quiet)
     viewer = _start_viewer(args)
@@ -196,6 +199,8 @@ def run(args: argparse.Namespace) -> int:
         print(plant_line)
     if (camera_line := camera_options.camera_summary(robot, result.error)) is not None:
         print(camera_line)
+    if result.checked_asks:
+        print(f"safety           {result.checked_asks} asks checked, {result.cut_asks} cut short")
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:

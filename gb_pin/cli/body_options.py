@@ -73,6 +73,49 @@ def add_body_options(b: argparse.ArgumentParser) -> None:
         default=None,
         help="no step moves a joint farther than this from the last ([rad] or [m]; default no limit)",
     )
+    add_safety_options(b)
+
+
+def add_safety_options(b: argparse.ArgumentParser) -> None:
+    """``--table``, ``--obstacle``, ``--self-collision``, ``--collision-geometry``, ``--clearance``."""
+    b.add_argument(
+        "--table", type=float, default=None, help="a table top at this height [m]: no ask goes below it"
+    )
+    b.add_argument(
+        "--obstacle",
+        action="append",
+        default=None,
+        help="an obstacle no ask touches (repeatable): box:center=X,Y,Z,half=A,B,C or "
+        "sphere:center=X,Y,Z,radius=R [m], world frame",
+    )
+    b.add_argument(
+        "--self-collision", action="store_true", help="check every ask against the robot's own shapes"
+    )
+    b.add_argument(
+        "--collision-geometry",
+        choices=("urdf", "capsules"),
+        default="urdf",
+        help="the robot's shapes: its URDF's collision geometry (default) or one capsule per link",
+    )
+    b.add_argument(
+        "--clearance", type=float, default=0.01, help="the margin every checked pair keeps [m] (default 0.01)"
+    )
+
+
+def safety(args: argparse.Namespace) -> dict[str, Any]:
+    """The run options of ``--table``, ``--obstacle``, ... ({} when none is given: nothing checked)."""
+    from gb_pin.safety.obstacles import Table, parse_obstacle
+
+    obstacles: list[Any] = [] if getattr(args, "table", None) is None else [Table(args.table)]
+    obstacles += [parse_obstacle(text) for text in getattr(args, "obstacle", None) or []]
+    if not obstacles and not getattr(args, "self_collision", False):
+        return {}
+    return {
+        "obstacles": obstacles or None,
+        "self_collision": bool(args.self_collision),
+        "collision_geometry": args.collision_geometry,
+        "clearance": args.clearance,
+    }
 
 
 def _default(value: float | str | None) -> str:

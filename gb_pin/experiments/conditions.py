@@ -26,7 +26,8 @@ from gb_pin.learn.config import NAMES, check_values
 
 BABBLE_ARGS: tuple[str, ...] = NAMES  # the babble arguments of a trial: the hyperparameter table's names
 GOAL_ARGS: tuple[str, ...] = ("goals", "targets", "eval_targets")  # where goals and E^X come from
-TRIAL_ARGS: tuple[str, ...] = (*BABBLE_ARGS, *GOAL_ARGS)
+SAFETY_ARGS: tuple[str, ...] = ("obstacles", "self_collision", "collision_geometry", "clearance")
+TRIAL_ARGS: tuple[str, ...] = (*BABBLE_ARGS, *GOAL_ARGS, *SAFETY_ARGS)
 SWEEP_FORMAT = "gb_pin.sweep"
 MAX_CONDITIONS = 10**4
 """The most conditions of one sweep (each is validated by a one-movement run before any trial)."""
@@ -45,6 +46,16 @@ def check_parameters(parameters: Mapping[str, Any], what: str = "babble argument
     if unknown:
         raise InvalidArgumentError(f"unknown {what} {unknown}; valid: {', '.join(TRIAL_ARGS)}")
     check_values({k: v for k, v in parameters.items() if k in BABBLE_ARGS}, what=what)
+    obstacles = parameters.get("obstacles")
+    if obstacles is not None:
+        from gb_pin.safety.obstacles import check_obstacles
+
+        if not isinstance(obstacles, list) or not all(isinstance(o, dict) for o in obstacles):
+            raise InvalidArgumentError(
+                "obstacles of a trial are a list of plain tables (gb_pin.safety.obstacles.plain: "
+                f'{{"kind": "box", "center": [...], "half_extents": [...]}}), got {obstacles!r:.100}'
+            )
+        check_obstacles(obstacles)
     goals = parameters.get("goals")
     if goals is not None:
         if not isinstance(goals, str):

@@ -410,7 +410,8 @@ def run_trials(
         checkpoint: a trial journal file; finished trials in it are not recomputed
             (see :class:`~gb_pin.experiments.journal.TrialJournal`).
         **babble_args: the hyperparameters of :data:`gb_pin.learn.config.NAMES`
-            (learning_rate, sigma, sigma_delta, radius, path_length, p_home).
+            (learning_rate, sigma, sigma_delta, radius, path_length, p_home), goals, targets,
+            eval_targets, and safe babbling's obstacles, self_collision, collision_geometry, clearance.
 
     Returns:
         A :class:`~gb_pin.experiments.trialset.TrialSet`; identical for any number of
@@ -422,6 +423,13 @@ def run_trials(
                 f"give the run as a RunSpec or as arguments, not both: {sorted(babble_args)}"
             )
         robot, movements, seed, babble_args = robot.trial_arguments()
+    if babble_args.get("obstacles") is not None:  # trials carry obstacles as plain tables (journal keys)
+        from gb_pin.safety.obstacles import check_obstacles, plain
+
+        babble_args = {
+            **babble_args,
+            "obstacles": [plain(o) for o in check_obstacles(babble_args["obstacles"])],
+        }
     task_robot(robot)  # a robot that workers cannot rebuild is refused here
     check_parameters(babble_args)
     movements = check.positive_int("movements", movements)

@@ -31,6 +31,9 @@ from gb_pin.learn.session_kernels import ask_step, evaluate_due, kernel_movement
 from gb_pin.learn.state import BabbleState
 
 Forward = Callable[[NDArray[np.float64]], ArrayLike]
+Guard = Callable[[NDArray[np.float64], NDArray[np.float64]], "NDArray[np.float64] | None"]
+"""``guard(q_from, q_to)``: None when the straight joint-space move from the last executed posture
+``q_from`` to the asked ``q_to`` is safe, else the posture to stop at (:mod:`gb_pin.safety`)."""
 EVALUATE_MODES = ("model", "movements", "none")
 
 
@@ -93,10 +96,18 @@ class AskTell:
         forward: the forward model used for E^X when the state has no compiled chain
             (a robot given as a Python function); None: no E^X from a model.
         evaluate: ``"model"``, ``"movements"`` or ``"none"`` (see the module docstring).
+        guard: checks each asked posture and the move to it from the last executed one; an unsafe
+            ask is cut short at the posture it returns, and the learner learns from that posture
+            (as from a posture clipped to the joint limits). None: no check.
     """
 
     def __init__(
-        self, state: BabbleState, stop: int, forward: Forward | None = None, evaluate: str = "model"
+        self,
+        state: BabbleState,
+        stop: int,
+        forward: Forward | None = None,
+        evaluate: str = "model",
+        guard: Guard | None = None,
     ) -> None:
         if evaluate not in EVALUATE_MODES:
             raise InvalidArgumentError(
@@ -109,6 +120,8 @@ class AskTell:
         self.forward = forward
         self.mode = evaluate
         self.pending = False
+        self.guard = guard
+        self.cuts = 0  # asks cut short by the guard
         self._build()
 
     def _build(self) -> None:
@@ -117,6 +130,7 @@ class AskTell:
         self._limits = self._robot.limits
         self._rec = self._monitor.recorder
         self._q = self._run.motion.q
+        self._q_exec = self._run.motion.q_exec
         self._x = self._run.motion.x
         self._n = self._x.shape[0]
 
@@ -155,6 +169,11 @@ class AskTell:
             if status == layout.DONE:
                 break
             self._handle(status)
+        if self.guard is not None:
+            cut = self.guard(self._q_exec.copy(), self._q.copy())
+            if cut is not None:
+                self._q[:] = cut  # what the arm executes, and what tell_step learns from
+                self.cuts += 1
         self.pending = True
         return self._q.copy()
 
@@ -170,6 +189,8 @@ class AskTell:
         """
         if self.pending:
             raise InvalidArgumentError("an asked posture awaits its tell(x)")
+        if self.guard is not None:
+            raise InvalidArgumentError("a guarded run checks each ask in Python: step it with ask/tell")
         st = self.state
         until = min(int(until), self.stop)
         while st.movements < until:

@@ -81,8 +81,10 @@ _COMMON_KEYS = (
     "home",
     "targets",
     "learner",
+    "safety",
     *_TASK_KEYS,
 )
+_SAFETY_KEYS = ("obstacles", "self_collision", "collision_geometry", "clearance")
 _SOURCE_KEYS = {
     "planar": ("total_length", "min_joints"),
     "example-robot-data": ("robot", "joints"),
@@ -114,6 +116,9 @@ class RobotPreset:
         target_spec: the ``[targets]`` table as written.
         task: ``task``, ``orientation_scale`` and ``pointing_axis`` as written (empty for the
             plain position task): the :class:`~gb_pin.robot.target.KinematicTarget` arguments.
+        safety: the ``[safety]`` table (``obstacles = [{kind = "table", height = 0.0}, ...]``,
+            ``self_collision``, ``collision_geometry``, ``clearance``): a run of this preset checks
+            every ask against them unless the run gives its own (:mod:`gb_pin.safety`).
     """
 
     name: str
@@ -130,6 +135,7 @@ class RobotPreset:
     kind: str = ""
     target_spec: dict[str, Any] = field(default_factory=dict)
     task: dict[str, Any] = field(default_factory=dict)
+    safety: dict[str, Any] = field(default_factory=dict)
 
     @property
     def pattern(self) -> str:
@@ -157,6 +163,21 @@ class RobotPreset:
         if self.source == "urdf":
             return f"urdf:{Path(self.robot).name}"
         return self.source
+
+
+def _read_safety(table: Any) -> dict[str, Any]:
+    """The ``[safety]`` table's keys checked (the obstacles are checked when a run uses them)."""
+    if not isinstance(table, dict) or set(table) - set(_SAFETY_KEYS):
+        raise InvalidArgumentError(
+            f"[safety] must be a table of {', '.join(_SAFETY_KEYS)}, got {table!r:.200}"
+        )
+    obstacles = table.get("obstacles", [])
+    if not isinstance(obstacles, list) or not all(isinstance(o, dict) for o in obstacles):
+        raise InvalidArgumentError(
+            '[safety] obstacles must be a list of tables like {kind = "table", height = 0.0}, '
+            f"got {obstacles!r:.200}"
+        )
+    return dict(table)
 
 
 def _read_learner(table: Any) -> dict[str, Any]:
@@ -201,6 +222,7 @@ def _read_preset(text: str | bytes, filename: str) -> RobotPreset:
                 )
             targets = grid_targets(spec["lower"], spec["upper"], spec["shape"])
         learner = _read_learner(raw.pop("learner", {}))
+        safety = _read_safety(raw.pop("safety", {}))
         name = str(raw.pop("name"))
         frame = str(raw.pop("frame"))
         axes = str(raw.pop("axes", "xyz"))
@@ -236,6 +258,7 @@ def _read_preset(text: str | bytes, filename: str) -> RobotPreset:
             kind=kind,
             target_spec=spec,
             task=task,
+            safety=safety,
         )
     except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError, OverflowError, RecursionError) as exc:
         raise InvalidArgumentError(f"malformed robot preset {filename}: {str(exc)[:200]}") from exc

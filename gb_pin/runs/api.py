@@ -65,6 +65,10 @@ def babble(
     max_joint_step: float | None = None,
     sensor: Sensor | None = None,
     reach_window: int = 50,
+    obstacles: Any = None,
+    self_collision: bool = False,
+    collision_geometry: str = "urdf",
+    clearance: float = 0.01,
 ) -> BabbleResult:
     """Bootstrap an inverse model of ``robot`` by online goal babbling.
 
@@ -131,6 +135,14 @@ def babble(
             E^X is always measured on the true body.
         reach_window: goal-directed movements over which ``result.history.reach`` (the median
             reach error the robot observed: progress measured without extra movements) is taken.
+        obstacles: ``[gb_pin.Table(height), gb_pin.Box(center, half_extents), gb_pin.Sphere(center,
+            radius)]`` (world frame [m]): every ask and the straight move to it are checked, and an
+            unsafe one is cut short at the last safe posture (the arm learns from that posture);
+            ``result.cut_asks`` counts them. The run then steps in Python (:mod:`gb_pin.safety`).
+        self_collision: check the robot against itself too (its collision matrix, generated once
+            and cached).
+        collision_geometry: ``"urdf"`` (the URDF's collision shapes) or ``"capsules"``.
+        clearance: the margin [m] every checked pair keeps.
 
     Returns:
         A :class:`BabbleResult`.
@@ -146,7 +158,7 @@ def babble(
         spec = RunSpec(
             robot, movements, seed, learning_rate, sigma, sigma_delta, radius, path_length, p_home,
             targets, eval_targets, schedule, record, goals, changes, init, until_error, max_joint_step,
-            sensor, reach_window,
+            sensor, reach_window, obstacles, self_collision, collision_geometry, clearance,
         )  # fmt: skip
     run = setup.prepare(spec)
     if isinstance(run.target, ExternalRobot):
@@ -159,7 +171,7 @@ def babble(
     setup.check_hooks(callback=callback, viewer=viewer)
     if checkpoint is not None:
         check_writable(checkpoint, "checkpoint")
-    if isinstance(run.target, FunctionTarget):
+    if isinstance(run.target, FunctionTarget) or run.guard is not None:
         from gb_pin.runs.stepped import babble_function
 
         return babble_function(run, callback, viewer, checkpoint, checkpoint_every, observe_every)

@@ -45,6 +45,9 @@ class BabbleResult:
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
             (the test set, ``eval_targets=``); None when they are the same set.
         missing: learning steps whose reading was missing (a sensor's losses, or ``tell(None)``).
+        checked_asks: asks checked for collisions (safe babbling: ``obstacles``, ``self_collision``;
+            not saved in result files).
+        cut_asks: of those, the asks cut short at the last safe posture.
     """
 
     target: KinematicTarget
@@ -62,6 +65,8 @@ class BabbleResult:
     goals: str | None = None
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
     missing: int = 0
+    checked_asks: int = 0
+    cut_asks: int = 0
 
     def __repr__(self) -> str:
         """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""

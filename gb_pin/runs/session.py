@@ -64,8 +64,12 @@ class BabbleSession:
         wall_before: float = 0.0,
         evaluate: str = "model",
         start: Any = None,
+        guard: Any = None,
     ) -> None:
         self.target = target
+        self.guard = guard  # a gb_pin.safety.CollisionChecker (or any guard(q_from, q_to)); None: no check
+        self.cuts = 0  # asks cut short by the guard (all kinds: learning, evaluation, transit, reaching)
+        self._held: NDArray[np.float64] | None = None  # the posture the robot holds (the last asked)
         self.state = state
         self.total = int(total)
         self.robot = robot
@@ -100,7 +104,27 @@ class BabbleSession:
             if state.chain is not None or isinstance(self.target, ExternalRobot)
             else getattr(self.target, "true_forward", self.target.forward)
         )
-        self._stepper = AskTell(state, self.total, forward=forward, evaluate=self.evaluate)
+        guard = None if self.guard is None else self._guard_learning
+        self._stepper = AskTell(state, self.total, forward=forward, evaluate=self.evaluate, guard=guard)
+        self._held = state.vectors["q_exec"].copy()
+
+    def _guard_learning(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> Any:
+        """The learner's asks are checked from where the robot is (after evaluation moves too)."""
+        held = q_from if self._held is None else self._held
+        cut = self.guard(held, q_to)
+        if cut is not None:
+            self.cuts += 1
+        return cut
+
+    def _safe(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """An ask other than a learning step, checked from the held posture (cut short if unsafe)."""
+        if self.guard is not None and self._held is not None:
+            cut = self.guard(self._held, q)
+            if cut is not None:
+                self.cuts += 1
+                q = np.asarray(cut, dtype=float)
+        self._held = q.copy()
+        return q
 
     # -- the lock on the checkpoint file ------------------------------------------------
     def close(self) -> None:
@@ -188,8 +212,9 @@ class BabbleSession:
                 self._probe_entry = entry
         if self._probe is not None:
             self._kind = self._probe.kind
-            return self._probe.ask()
+            return self._safe(self._probe.ask())
         q = self._stepper.ask()
+        self._held = q.copy()
         self._kind = LEARN
         return q
 
@@ -259,8 +284,11 @@ class BabbleSession:
         st = self.state
         self._stepper.sync()
         step = None if not np.isfinite(st.max_step) else float(st.max_step)
-        options.setdefault("start", st.vectors["q_exec"].copy())
-        return FeedbackReach(st.llm, target, st.lower, st.upper, max_joint_step=step, **options)
+        options.setdefault("start", st.vectors["q_exec"].copy() if self._held is None else self._held.copy())
+        reach = FeedbackReach(st.llm, target, st.lower, st.upper, max_joint_step=step, **options)
+        if self.guard is not None:
+            reach.ask = lambda: self._safe(FeedbackReach.ask(reach))  # type: ignore[method-assign]
+        return reach
 
     # -- files ------------------------------------------------------------------------------
     def save_checkpoint(self, path: str | os.PathLike[str] | None = None) -> str:
@@ -425,6 +453,7 @@ def babble_session(
     return BabbleSession(
         run.target, None if external else begin(), run.movements, robot=run.name, seed=run.seed,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, evaluate=evaluate, start=begin,
+        guard=run.guard,
     )  # fmt: skip
 
 
@@ -433,6 +462,7 @@ def resume_session(
     robot: setup.Target | None = None,
     *,
     checkpoint_every: int | None = None,
+    guard: Any = None,
 ) -> BabbleSession:
     """The session saved in a checkpoint file, ready to ask (and to keep checkpointing there).
 
@@ -442,6 +472,9 @@ def resume_session(
             an external robot, a plant, or a model the file cannot rebuild. A simulated plant
             continues from the state the checkpoint saved.
         checkpoint_every: movements between checkpoints (default a tenth of the run).
+        guard: the collision checker of a safe session (``session.guard`` of the session saved, or a
+            :class:`gb_pin.CollisionChecker` built again): checkpoints do not record obstacles, so a
+            safe session resumed without one is not checked.
 
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one of another robot.
@@ -457,7 +490,7 @@ def resume_session(
     restore_robot_state(checkpoint, robot, info.robot_state)  # a simulated plant continues where it was
     session = BabbleSession(
         robot, state, info.movements, robot=info.robot, seed=info.seed, checkpoint=checkpoint,
-        checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate,
+        checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate, guard=guard,
     )  # fmt: skip
     session.unobserved = info.unobserved
     return session

@@ -129,6 +129,7 @@ class Prepared(NamedTuple):
     learner: GoalBabbling
     rng: np.random.Generator
     seed: int | None
+    guard: Any = None  # a gb_pin.safety.CollisionChecker when the spec asks for safe babbling
 
 
 def start_state(
@@ -225,4 +226,41 @@ def prepare(spec: RunSpec) -> Prepared:
     X = target_set(target, spec.targets)  # checked; warns about targets beyond reach
     learner = make_learner(defaults, spec.hyperparameters())
     rng, int_seed = generator(spec.seed, spec.init)
-    return Prepared(spec, target, name, int(spec.movements), X, learner, rng, int_seed)
+    if not spec.safe and name is not None and "@" not in name and ":" not in name:
+        preset_safety = get_preset(name)[0].safety  # a preset's [safety] table, unless the run gives its own
+        if preset_safety:
+            spec = spec.replace(**preset_safety)
+    guard = safety_guard(spec, target, X) if spec.safe else None
+    return Prepared(spec, target, name, int(spec.movements), X, learner, rng, int_seed, guard)
+
+
+def safety_guard(spec: RunSpec, target: Any, X: NDArray[np.float64]) -> Any:
+    """The collision checker of a safe run, its setup checked (home clear, goals outside obstacles).
+
+    A simulated plant is checked on the kinematic robot it was built from.
+
+    Raises:
+        UnsafeSetupError: a robot without a model, an obstacle at home, goals inside an obstacle, ...
+    """
+    from gb_pin.exceptions import UnsafeSetupError
+    from gb_pin.safety.checker import CollisionChecker
+
+    kinematic = getattr(target, "target", target)
+    if getattr(kinematic, "model", None) is None or not hasattr(kinematic, "to_pinocchio"):
+        raise UnsafeSetupError(
+            "safe babbling (obstacles, self_collision) needs a robot with a Pinocchio model, "
+            f"got {target!r:.100}"
+        )
+    checker = getattr(target, "collision", None)  # a simulated plant's, with contacts on
+    if not (
+        isinstance(checker, CollisionChecker)
+        and checker.same_setup(
+            spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance
+        )
+    ):
+        checker = CollisionChecker(
+            kinematic, spec.obstacles or (), self_collision=spec.self_collision,
+            geometry=spec.collision_geometry, clearance=spec.clearance,
+        )  # fmt: skip
+    checker.check_setup(X)
+    return checker

@@ -63,6 +63,14 @@ class RunSpec:
             missing readings); None: the robot's own (a plant's), else exact readings.
         reach_window: goal-directed movements over which ``History.reach`` (the median reach error
             the robot observed, the free measure of progress) is taken.
+        obstacles: the environment, ``[gb_pin.Table(height), gb_pin.Box(center, half_extents),
+            gb_pin.Sphere(center, radius)]`` (world frame [m]); every ask is checked against them
+            and cut short before it would come within ``clearance`` (:mod:`gb_pin.safety`).
+        self_collision: check every ask against the robot's own shapes too (through its generated
+            collision matrix). None/False with no obstacles: no check (the paper's run, compiled).
+        collision_geometry: the robot's shapes: ``"urdf"`` (its collision geometry, meshes as convex
+            hulls) or ``"capsules"`` (one per link; for robots without collision geometry).
+        clearance: the margin [m] every checked pair keeps.
     """
 
     robot: Any = "planar20"
@@ -85,6 +93,10 @@ class RunSpec:
     max_joint_step: float | None = None
     sensor: Sensor | None = None
     reach_window: int = 50
+    obstacles: Any = None
+    self_collision: bool = False
+    collision_geometry: str = "urdf"
+    clearance: float = 0.01
 
     def __post_init__(self) -> None:
         check.movements("movements", self.movements, minimum=1)
@@ -127,6 +139,22 @@ class RunSpec:
         if self.sensor is not None and not isinstance(self.sensor, Sensor):
             raise InvalidArgumentError(f"sensor must be a gb_pin Sensor or None, got {self.sensor!r}")
         check.positive_int("reach_window", self.reach_window, 1, 10**6)
+        if self.obstacles is not None:
+            from gb_pin.safety.obstacles import check_obstacles
+
+            object.__setattr__(self, "obstacles", check_obstacles(self.obstacles) or None)
+        if not isinstance(self.self_collision, bool):
+            raise InvalidArgumentError(f"self_collision must be True or False, got {self.self_collision!r}")
+        if self.collision_geometry not in ("urdf", "capsules"):
+            raise InvalidArgumentError(
+                f"collision_geometry must be 'urdf' or 'capsules', got {self.collision_geometry!r}"
+            )
+        check.positive_float("clearance", self.clearance)
+
+    @property
+    def safe(self) -> bool:
+        """Whether asks are checked (obstacles given or self-collision asked)."""
+        return self.obstacles is not None or self.self_collision
 
     @classmethod
     def of(cls, robot: Any = "planar20", movements: Any = 1000, seed: Any = 0, **options: Any) -> RunSpec:
@@ -156,7 +184,8 @@ class RunSpec:
             InvalidArgumentError: a field trials cannot carry (a robot object, a Generator seed,
                 a recording, body changes, ...), named.
         """
-        plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets"}
+        plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets",
+                 "obstacles", "self_collision", "collision_geometry", "clearance"}  # fmt: skip
         others = [f.name for f in dataclasses.fields(self)
                   if f.name not in plain and not _is_default(getattr(self, f.name), f.default)]  # fmt: skip
         if isinstance(self.seed, np.random.Generator):
@@ -176,6 +205,12 @@ class RunSpec:
                 args[key] = value  # a workspace region travels as its spec
             elif value is not None:
                 args[key] = np.asarray(value, dtype=float).tolist()
+        if self.safe:
+            from gb_pin.safety.obstacles import plain as plain_obstacle
+
+            args["obstacles"] = [plain_obstacle(o) for o in self.obstacles or ()]
+            args.update(self_collision=self.self_collision, collision_geometry=self.collision_geometry,
+                        clearance=self.clearance)  # fmt: skip
         return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
 
     def replace(self, **changes: Any) -> RunSpec:

@@ -31,21 +31,21 @@ def babble_function(
         InvalidArgumentError: a viewer was asked for a robot without a kinematic robot to draw.
     """
     target: Any = run.target
-    drawn = getattr(target, "target", None)  # a simulated plant: the kinematic robot it was built from
+    drawn = getattr(target, "target", target)  # a simulated plant: the kinematic robot it was built from
     if viewer is not None and getattr(drawn, "chain", None) is None:
         raise InvalidArgumentError(
             "viewer= needs a robot with a compiled chain (a KinematicTarget) or a plant built on one"
         )
     session = BabbleSession(
         target, setup.start_state(run), run.movements, robot=None, seed=run.seed, checkpoint=checkpoint,
-        checkpoint_every=checkpoint_every,
+        checkpoint_every=checkpoint_every, guard=run.guard,
     )  # fmt: skip
     every = max(1, run.movements // 100)
     if viewer is not None:
         assert session.state is not None
         viewer.start(drawn, session.state.eval_targets)
     with session:
-        if target.kernel is not None:  # a compiled forward model: whole movements in compiled code
+        if getattr(target, "kernel", None) is not None and run.guard is None:  # whole movements compiled
             stepper = session._stepper
             assert stepper is not None
             while not session.done:
@@ -59,7 +59,8 @@ def babble_function(
                     session._checkpoint_or_fall_back()
                 if callback is not None:
                     callback(session.movements)
-            return session.result()
+            return _with_counts(session)
+
         forward = target.forward  # checks each reading, naming the model if it returns nonsense
         while not session.done:
             if not session.tell(forward(session.ask())):
@@ -68,4 +69,13 @@ def babble_function(
                 callback(session.movements)
             if viewer is not None and session.movements % observe_every == 0:
                 viewer.update(session.state)
-        return session.result()
+        return _with_counts(session)
+
+
+def _with_counts(session: BabbleSession) -> BabbleResult:
+    """The session's result, with its guard's counts (asks checked, asks cut short)."""
+    result = session.result()
+    if session.guard is not None:
+        object.__setattr__(result, "checked_asks", int(getattr(session.guard, "asks", 0)))
+        object.__setattr__(result, "cut_asks", session.cuts)
+    return result

@@ -12,8 +12,10 @@ kinematics are the learner's to rounding (tested: 1e-9 m at random postures), ev
 loads converts (no URDF dialect or mesh to strip), and the locked joints are welded exactly where
 gb_pin locks them.
 
-No geometry is written: contacts are off (the learner's chain has no self-collision either),
-and MuJoCo takes the masses from the inertias.
+By default no geometry is written: contacts are off (the learner's chain has no self-collision
+either), and MuJoCo takes the masses from the inertias. Given a collision checker
+(:mod:`gb_pin.safety`), its shapes, obstacles and checked pairs are written with contacts on
+(:mod:`gb_pin.sim.contacts`).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ def mjcf(
     timestep: float = 0.002,
     name: str = "robot",
     scene: Any = None,
+    collision: Any = None,
 ) -> str:
     """The MJCF text of ``target``'s moved joints, with ``servos`` on them.
 
@@ -54,6 +57,8 @@ def mjcf(
         name: the model's name.
         scene: what a camera sees (:class:`~gb_pin.sim.scene.Scene`: meshes, floor, lights, the
             marker plate, the camera), drawn only: no mass, no contact; None: no geometry.
+        collision: a :class:`~gb_pin.safety.checker.CollisionChecker`: its shapes and obstacles as
+            geoms, contacts on for its checked pairs; None: no geometry, contacts off.
 
     Raises:
         InvalidArgumentError: a robot without a Pinocchio model or inertias.
@@ -70,6 +75,13 @@ def mjcf(
         children[int(chain.parents[i])].append(i)
     ids = [int(model.getJointId(target.joints[int(chain.q_index[i])])) for i in range(m)]
     lines: list[str] = []
+    geoms: dict[int, list[str]] = {}
+    meshes: list[str] = []
+    pairs: list[str] = []
+    if collision is not None:
+        from gb_pin.sim.contacts import contact_xml
+
+        geoms, meshes, pairs = contact_xml(collision)
 
     def body(i: int, depth: int) -> None:
         pad = "  " * depth
@@ -93,6 +105,7 @@ def mjcf(
             lines.append(f'{pad}  <site name="frame" pos={_v(chain.frame_translation)}/>')
         if scene is not None:
             lines.extend(f"{pad}  {line}" for line in scene.bodies.get(a, []))
+        lines.extend(f"{pad}  {g}" for g in geoms.get(a, []))
         for c in children[i]:
             body(c, depth + 1)
         lines.append(f"{pad}</body>")
@@ -101,6 +114,7 @@ def mjcf(
         lines.append(f'    <site name="frame" pos={_v(chain.frame_translation)}/>')
     if scene is not None:
         lines.extend(f"    {line}" for line in scene.bodies.get(-1, []))
+    lines.extend(f"    {g}" for g in geoms.get(-1, []))
     for c in children[-1]:
         body(c, 2)
     g = np.asarray(model.gravity.linear, dtype=float) if gravity else np.zeros(3)
@@ -117,12 +131,14 @@ def mjcf(
         f'  <compiler angle="radian" balanceinertia="true" boundmass="{MIN_MASS!r}" '
         f'boundinertia="{MIN_INERTIA!r}"/>',
         f'  <option timestep="{float(timestep)!r}" integrator="implicitfast" gravity={_v(g)}>',
-        '    <flag contact="disable"/>',
+        *(['    <flag contact="disable"/>'] if collision is None else []),
         "  </option>",
         *([] if scene is None else scene.header),
+        *(["  <asset>", *meshes, "  </asset>"] if meshes else []),
         "  <worldbody>",
         *lines,
         "  </worldbody>",
+        *(["  <contact>", *pairs, "  </contact>"] if pairs else []),
         "  <actuator>",
         *actuators,
         "  </actuator>",

@@ -78,6 +78,11 @@ class MujocoPlant(FunctionTarget):
             DICT_4X4_50, 25 mm, 3 cm from the task frame towards the camera).
         meshes: draw the URDF's visual meshes (decimated), else capsules.
         pixel_noise: the camera's noise [grey levels of 255] (3: a webcam's).
+        obstacles, self_collision, collision_geometry, clearance: contacts on (:mod:`gb_pin.safety`):
+            the robot's collision shapes and the obstacles as MuJoCo geoms, contacts for the pairs
+            the checker checks (``self_collision``: the collision matrix's), counted in
+            :attr:`contacts`. The plant's ``collision`` is that checker (``clearance`` is its margin;
+            MuJoCo's contacts have none). Default: no geometry, contacts off.
 
     Attributes:
         target: the kinematic robot it was built from (its URDF kinematics: exact IK runs on it).
@@ -122,6 +127,10 @@ class MujocoPlant(FunctionTarget):
         marker: Any = None,
         meshes: bool = True,
         pixel_noise: float = 3.0,
+        obstacles: Any = None,
+        self_collision: bool = False,
+        collision_geometry: str = "urdf",
+        clearance: float = 0.01,
     ) -> None:
         mujoco = require_mujoco()
         self._mj = mujoco
@@ -146,8 +155,17 @@ class MujocoPlant(FunctionTarget):
         self.seed = check.positive_int("seed", seed, 0, 2**63 - 1)
         self.tracker = Sensor(noise, loss, np.random.default_rng(self.seed))
         self.tracker.std(self.target.n_task)  # a per-axis noise of the wrong length is refused now
+        self.collision: Any = None
+        if obstacles is not None or self_collision:
+            from gb_pin.safety.checker import CollisionChecker
+
+            self.collision = CollisionChecker(
+                self.target, obstacles or (), self_collision=self_collision, geometry=collision_geometry,
+                clearance=clearance,
+            )  # fmt: skip
+        self._contacts: list[int] | None = None if self.collision is None else [0]
         self.text = mjcf(self.target, self.servos, gravity=self.gravity, timestep=self.timestep,
-                         name=self.target.name)  # fmt: skip
+                         name=self.target.name, collision=self.collision)  # fmt: skip
         self.mj_model = mujoco.MjModel.from_xml_string(self.text)
         self.mj_data = mujoco.MjData(self.mj_model)
         self._scratch = mujoco.MjData(self.mj_model)  # for true_forward: the arm's own state is untouched
@@ -198,7 +216,7 @@ class MujocoPlant(FunctionTarget):
             self.target, pose, marker, (body, chain.frame_translation, R_home, p_home), meshes
         )
         self.text = mjcf(self.target, self.servos, gravity=self.gravity, timestep=self.timestep,
-                         name=self.target.name, scene=scene)  # fmt: skip
+                         name=self.target.name, scene=scene, collision=self.collision)  # fmt: skip
         self.mj_model = self._mj.MjModel.from_xml_string(self.text, scene.assets)
         self.mj_data = self._mj.MjData(self.mj_model)
         self._scratch = self._mj.MjData(self.mj_model)
@@ -230,6 +248,21 @@ class MujocoPlant(FunctionTarget):
         self._readings = self.tracker.start(self.target.n_task)
         self.asks = 0
         self.steps = 0
+        if self._contacts is not None:
+            self._contacts[0] = 0
+
+    @property
+    def contacts(self) -> int:
+        """Contacts MuJoCo found so far, summed over the steps (0: nothing ever touched); contacts on only.
+
+        Raises:
+            InvalidArgumentError: the plant was built without collision geometry (contacts off).
+        """
+        if self._contacts is None:
+            raise InvalidArgumentError(
+                "contacts are off: build the plant with obstacles= or self_collision=True"
+            )
+        return self._contacts[0]
 
     def forward(self, q: ArrayLike) -> NDArray[np.float64] | None:  # type: ignore[override]
         """One ask: command ``q`` (m,), simulate by the settling rule, read the task vector (n,) [m].
@@ -307,7 +340,7 @@ class MujocoPlant(FunctionTarget):
     def move(self, q: ArrayLike) -> None:
         """Command ``q`` (m,) and simulate by the settling rule, reading nothing (a camera reads after)."""
         self.mj_data.ctrl[:] = check.vector("q", q, self.n_joints)
-        self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data)
+        self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data, self._contacts)
         self.asks += 1
 
     def render(self) -> NDArray[np.uint8]:

@@ -15,6 +15,7 @@ early sees the arm on its way, lagging the command. A learner fed such readings 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -73,9 +74,15 @@ class Settling:
         every = max(1, round(CHECK_PERIOD / timestep))
         return most, (most if self.tolerance is None else min(every, most))
 
-    def hold(self, mujoco: Any, model: Any, data: Any) -> int:
-        """Advance the simulation under the current command by this rule; returns the steps taken."""
+    def hold(self, mujoco: Any, model: Any, data: Any, contacts: Any = None) -> int:
+        """Advance the simulation under the current command by this rule; returns the steps taken.
+
+        ``contacts``: a list to which each step's contact count is added (``data.ncon``: the
+        steps then run one at a time); None: not counted.
+        """
         most, every = self.steps(float(model.opt.timestep))
+        if contacts is not None:
+            return self._hold_counting(mujoco, model, data, contacts, most, every)
         if self.tolerance is None:
             mujoco.mj_step(model, data, most)
             return most
@@ -88,6 +95,17 @@ class Settling:
             if np.abs(data.qvel).max() < speed and np.abs(data.qacc).max() < accel:
                 break
         return done
+
+    def _hold_counting(self, mujoco: Any, model: Any, data: Any, contacts: Any, most: int, every: int) -> int:
+        """:meth:`hold` one step at a time, adding each step's contacts to ``contacts[0]``."""
+        speed = math.inf if self.tolerance is None else self.tolerance
+        accel = math.inf if self.tolerance is None else self.tolerance / REST_TIME
+        for done in range(1, most + 1):
+            mujoco.mj_step(model, data)
+            contacts[0] += int(data.ncon)
+            if done % every == 0 and np.abs(data.qvel).max() < speed and np.abs(data.qacc).max() < accel:
+                return done
+        return most
 
     def describe(self) -> str:
         """``settle until at rest (0.01 rad/s), at most 0.5 s`` or ``a fixed period of 0.05 s``."""

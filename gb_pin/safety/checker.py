@@ -1,0 +1,337 @@
+"""Is a posture safe, and how far along a joint-space segment can the arm go safely?
+
+:class:`CollisionChecker` holds the robot's collision shapes (:mod:`gb_pin.safety.geometry`), the
+pairs of them its collision matrix keeps (:mod:`gb_pin.safety.matrix`) and the obstacles
+(:mod:`gb_pin.safety.obstacles`, checked against every shape that moves: the links fixed to the world,
+a base standing on the table, are not). A posture is safe when no checked pair comes within the
+clearance (coal's security margin). A straight joint-space segment is checked at postures so close
+that no point of the arm moves more than the clearance between two of them (a bound from the joints'
+lever arms), so a segment whose samples are safe never touches. Called as ``checker(q_from, q_to)``
+it is the guard of an ask/tell run (:class:`gb_pin.learn.asktell.AskTell`): None when the segment is
+safe, else the last safe posture, where the movement is cut short.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gb_pin import _validation as check
+from gb_pin.exceptions import InvalidArgumentError, UnsafeSetupError
+from gb_pin.safety.geometry import RobotGeometry, robot_geometry
+from gb_pin.safety.matrix import DEFAULT_SAMPLES, CollisionMatrix, apply_srdf, cached_matrix
+from gb_pin.safety.obstacles import Box, Obstacle, Sphere, Table, check_obstacles
+
+DEFAULT_CLEARANCE = 0.01
+"""The default clearance [m] between checked shapes."""
+MAX_SEGMENT_SAMPLES = 10**5
+
+
+def _coal_shape(obstacle: Obstacle) -> tuple[Any, Any]:
+    import coal
+    import pinocchio as pin
+
+    if isinstance(obstacle, Table):
+        return coal.Halfspace(np.array([0.0, 0.0, 1.0]), obstacle.height), pin.SE3.Identity()
+    if isinstance(obstacle, Box):
+        half = np.asarray(obstacle.half_extents)
+        return coal.Box(*(2 * half)), pin.SE3(np.eye(3), np.asarray(obstacle.center))
+    return coal.Sphere(obstacle.radius), pin.SE3(np.eye(3), np.asarray(obstacle.center))
+
+
+class CollisionChecker:
+    """Self-collision and obstacles of a :class:`~gb_pin.robot.target.KinematicTarget`.
+
+    Args:
+        target: the robot (its reduced model moves the shapes).
+        obstacles: Table, Box, Sphere (world frame [m]).
+        self_collision: check the robot's own shapes against each other (through the matrix).
+        geometry: ``"urdf"`` (the URDF's collision shapes, meshes as convex hulls) or ``"capsules"``.
+        clearance: the margin [m] every checked pair keeps.
+        capsule_radius: the capsules' radius [m] (``geometry="capsules"``).
+        srdf: an SRDF whose ``<disable_collisions>`` pairs are not checked.
+        samples: postures sampled to generate the collision matrix.
+        matrix: a matrix to use instead of the cached/generated one.
+        slide: an unsafe ask goes to the last safe posture of its straight move, then slides joint by
+            joint along what it touched (:meth:`slide_posture`); False: it stops at the last safe one.
+
+    Raises:
+        UnsafeSetupError: no collision geometry (and no capsules asked), or nothing to check.
+        InvalidArgumentError: a bad argument.
+    """
+
+    def __init__(
+        self,
+        target: Any,
+        obstacles: Any = (),
+        *,
+        self_collision: bool = False,
+        geometry: str = "urdf",
+        clearance: float = DEFAULT_CLEARANCE,
+        capsule_radius: float = 0.025,
+        srdf: str | os.PathLike[str] | None = None,
+        samples: int = DEFAULT_SAMPLES,
+        matrix: CollisionMatrix | None = None,
+        slide: bool = True,
+    ) -> None:
+        import pinocchio as pin
+
+        self.target = target
+        self.obstacles = check_obstacles(obstacles)
+        self.clearance = check.positive_float("clearance", clearance)
+        self.self_collision = bool(self_collision)
+        if not self.obstacles and not self_collision:
+            raise UnsafeSetupError("nothing to check: give obstacles or self_collision=True")
+        self.geometry: RobotGeometry = robot_geometry(
+            target, geometry, check.positive_float("capsule_radius", capsule_radius)
+        )
+        self.matrix: CollisionMatrix | None = None
+        k = len(self.geometry.body)
+        gm = self.geometry.model.copy()
+        gm.removeAllCollisionPairs()
+        if self_collision:
+            samples = check.positive_int("samples", samples, 1, 10**7)
+            self.matrix = (
+                matrix
+                if matrix is not None
+                else cached_matrix(target, self.geometry, self.clearance, samples)
+            )
+            if srdf is not None:
+                self.matrix = apply_srdf(self.matrix, self.geometry, srdf)
+            for i, j in self.matrix.pairs:
+                gm.addCollisionPair(pin.CollisionPair(i, j))
+        moving = [s for s in range(k) if self.geometry.body[s] >= 0]
+        for o, obstacle in enumerate(self.obstacles):
+            shape, placement = _coal_shape(obstacle)
+            oid = gm.addGeometryObject(pin.GeometryObject(f"obstacle_{o}", 0, placement, shape))
+            for s in moving:
+                gm.addCollisionPair(pin.CollisionPair(s, oid))
+        self.collision_model = gm
+        self._gdata = gm.createData()
+        for request in self._gdata.collisionRequests:
+            request.security_margin = self.clearance
+        self._model = target.model
+        self._data = self._model.createData()
+        self._broadphase()
+        self._lever = self._levers()
+        self._factor = 2.0 if self_collision else 1.0  # two moving shapes: twice the relative motion
+        self.slide = bool(slide)  # after a cut, slide joint by joint along the obstacle (slide_posture)
+        self.checks = 0  # postures checked
+        self.asks = 0  # segments checked
+        self.cuts = 0  # segments cut short
+
+    def _broadphase(self) -> None:
+        """Bounding spheres of the shapes and the checked pairs' indices.
+
+        Only the pairs whose spheres come within the clearance go to coal.
+        """
+        gm = self.collision_model
+        n = len(gm.geometryObjects)
+        self._centres = np.zeros((n, 3))
+        self._radii = np.zeros(n)
+        self._joint_of = np.zeros(n, dtype=np.int64)
+        for s, obj in enumerate(gm.geometryObjects):
+            geom = obj.geometry
+            geom.computeLocalAABB()
+            self._joint_of[s] = int(obj.parentJoint)
+            if obj.name.startswith("obstacle_"):
+                continue
+            self._centres[s] = obj.placement.act(np.asarray(geom.aabb_center))
+            self._radii[s] = float(geom.aabb_radius)
+        pairs = [(int(p.first), int(p.second)) for p in gm.collisionPairs]
+        self._pair_a = np.array([a for a, _ in pairs], dtype=np.int64)
+        self._pair_b = np.array([b for _, b in pairs], dtype=np.int64)
+        self._pair_obstacle = np.array([b >= len(self.geometry.body) for _, b in pairs])
+        self._joints_used = np.unique(self._joint_of[: len(self.geometry.body)])
+        self._slot = np.searchsorted(self._joints_used, self._joint_of[: len(self.geometry.body)])
+        # obstacles: their distance from a sphere's centre is computed in numpy (tables, boxes, spheres)
+        self._n_shapes = len(self.geometry.body)
+
+    def _world_centres(self) -> NDArray[np.float64]:
+        oMi = self._data.oMi
+        placed = [oMi[int(j)] for j in self._joints_used]
+        R = np.array([p.rotation for p in placed])
+        t = np.array([p.translation for p in placed])
+        slot = self._slot
+        return np.einsum("sij,sj->si", R[slot], self._centres[: self._n_shapes]) + t[slot]
+
+    def _obstacle_distance(self, o: int, centres: NDArray[np.float64]) -> NDArray[np.float64]:
+        obstacle = self.obstacles[o]
+        if isinstance(obstacle, Table):
+            return centres[:, 2] - obstacle.height
+        if isinstance(obstacle, Box):
+            d = np.abs(centres - np.asarray(obstacle.center)) - np.asarray(obstacle.half_extents)
+            return np.linalg.norm(np.maximum(d, 0.0), axis=1)
+        return np.linalg.norm(centres - np.asarray(obstacle.center), axis=1) - obstacle.radius
+
+    def _candidates(self) -> NDArray[np.int64]:
+        """The checked pairs whose bounding spheres come within the clearance (after forward kinematics)."""
+        centres = self._world_centres()
+        k = self._n_shapes
+        gap = np.empty(len(self._pair_a))
+        selfp = ~self._pair_obstacle
+        a, b = self._pair_a[selfp], self._pair_b[selfp]
+        gap[selfp] = np.linalg.norm(centres[a] - centres[b], axis=1) - self._radii[a] - self._radii[b]
+        if self._pair_obstacle.any():
+            dist = np.stack([self._obstacle_distance(o, centres) for o in range(len(self.obstacles))])
+            a, b = self._pair_a[self._pair_obstacle], self._pair_b[self._pair_obstacle]
+            gap[self._pair_obstacle] = dist[b - k, a] - self._radii[a]
+        return np.nonzero(gap < self.clearance)[0]
+
+    def _levers(self) -> NDArray[np.float64]:
+        """Per joint: how far [m] a point of any shape it moves travels per unit of that joint's motion."""
+        g = self.geometry
+        model = self._model
+        ids = [int(model.getJointId(j)) for j in self.target.joints]
+        m = len(ids)
+        link = np.array([float(np.linalg.norm(model.jointPlacements[jid].translation)) for jid in ids])
+        span = np.where(
+            np.isfinite(self.target.upper - self.target.lower), self.target.upper - self.target.lower, 0.0
+        )
+        prismatic = np.array(["P" in model.joints[jid].shortname() for jid in ids])
+        lever = np.zeros(m)
+        for s, b in enumerate(g.body):
+            if b < 0:
+                continue
+            dist = float(g.reach[s])
+            a = int(b)
+            while a >= 0:
+                lever[a] = max(lever[a], 1.0 if prismatic[a] else dist)
+                dist += link[a] + (abs(span[a]) if prismatic[a] else 0.0)
+                a = int(g.parents[a])
+        return lever
+
+    def same_setup(self, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> bool:
+        """Whether this checker checks exactly these (so that a plant's checker can serve a run)."""
+        return (
+            self.obstacles == check_obstacles(obstacles)
+            and self.self_collision == bool(self_collision)
+            and self.geometry.kind == geometry
+            and self.clearance == clearance
+        )
+
+    # -- checks ------------------------------------------------------------------------------
+    def is_safe(self, q: ArrayLike) -> bool:
+        """Whether posture ``q`` (m,) keeps every checked pair at least the clearance apart."""
+        import pinocchio as pin
+
+        self.checks += 1
+        pin.forwardKinematics(self._model, self._data, self.target.to_pinocchio(q))
+        candidates = self._candidates()
+        if candidates.shape[0] == 0:
+            return True
+        pin.updateGeometryPlacements(self._model, self._data, self.collision_model, self._gdata)
+        gm, gd = self.collision_model, self._gdata
+        return not any(pin.computeCollision(gm, gd, int(p)) for p in candidates)
+
+    def contacts(self, q: ArrayLike) -> list[tuple[str, str]]:
+        """The checked pairs within the clearance at posture ``q``, by their shapes' names."""
+        import pinocchio as pin
+
+        gm, gd = self.collision_model, self._gdata
+        pin.computeCollisions(self._model, self._data, gm, gd, self.target.to_pinocchio(q), False)
+        out = []
+        for p, pair in enumerate(gm.collisionPairs):
+            if gd.collisionResults[p].isCollision():
+                out.append((gm.geometryObjects[pair.first].name, gm.geometryObjects[pair.second].name))
+        return out
+
+    def samples(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> int:
+        """Postures checked on the segment: no point moves more than the clearance between two."""
+        travel = self._factor * float(np.dot(self._lever, np.abs(q_to - q_from)))
+        return min(MAX_SEGMENT_SAMPLES, max(1, math.ceil(travel / self.clearance)))
+
+    def cut(self, q_from: ArrayLike, q_to: ArrayLike) -> tuple[NDArray[np.float64], bool]:
+        """The last safe posture on the straight segment from ``q_from`` (safe) to ``q_to``.
+
+        Returns (posture, whether the whole segment is safe: then the posture is ``q_to``).
+        """
+        a = np.asarray(q_from, dtype=float)
+        b = np.asarray(q_to, dtype=float)
+        n = self.samples(a, b)
+        last = a
+        for k in range(1, n + 1):
+            q = b if k == n else a + (k / n) * (b - a)
+            if not self.is_safe(q):
+                return last.copy(), False
+            last = q
+        return b.copy(), True
+
+    def __call__(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> NDArray[np.float64] | None:
+        """The guard of an ask/tell run: None (the segment is safe) or the posture to go to instead."""
+        self.asks += 1
+        q, ok = self.cut(q_from, q_to)
+        if ok:
+            return None
+        self.cuts += 1
+        return self.slide_posture(q_from, q, q_to) if self.slide else q
+
+    def slide_posture(self, q_from: ArrayLike, q_cut: ArrayLike, q_to: ArrayLike) -> NDArray[np.float64]:
+        """The cut posture, then each joint's remaining move added alone where it stays safe.
+
+        Largest first, each kept where the straight move from ``q_from`` stays safe: the arm slides
+        along the obstacle, as a posture clipped to its joint limits slides along them, instead of
+        stopping where it first touched.
+        """
+        a = np.asarray(q_from, dtype=float)
+        q = np.asarray(q_cut, dtype=float).copy()
+        rest = np.asarray(q_to, dtype=float) - q
+        for i in np.argsort(-np.abs(rest) * self._lever):
+            if rest[i] == 0.0:
+                continue
+            trial = q.copy()
+            trial[i] += rest[i]
+            if self.cut(a, trial)[1]:
+                q = trial
+        return q
+
+    # -- bad input, before anything moves ---------------------------------------------------
+    def check_setup(self, targets: ArrayLike | None = None) -> None:
+        """Refuse a run that cannot be safe.
+
+        Home within the clearance of an obstacle or of itself; goals inside an obstacle (a table
+        above them).
+
+        Raises:
+            UnsafeSetupError: naming the obstacle or pair and what to change.
+        """
+        home = np.asarray(self.target.home, dtype=float)
+        touching = self.contacts(home)
+        if touching:
+            a, b = touching[0]
+            what = self._describe(b) if b.startswith("obstacle_") else f"its own shape {b!r}"
+            raise UnsafeSetupError(
+                f"at home the arm ({a!r}) is within the clearance {self.clearance} m of {what}: "
+                "move the obstacle or choose another home"
+            )
+        if targets is None or getattr(self.target, "task", None) is not None:
+            return
+        axes = str(getattr(self.target, "axes", ""))
+        if sorted(axes) != ["x", "y", "z"] or len(axes) != 3:
+            return
+        X = check.points("targets", targets, 3)[:, [axes.index("x"), axes.index("y"), axes.index("z")]]
+        for o, obstacle in enumerate(self.obstacles):
+            inside = obstacle.contains(X)
+            if inside.any():
+                raise UnsafeSetupError(
+                    f"{int(inside.sum())} of {len(X)} goals lie inside {self._describe(f'obstacle_{o}')} "
+                    f"(e.g. {np.round(X[inside][0], 4).tolist()}): no safe posture reaches them"
+                )
+
+    def _describe(self, name: str) -> str:
+        o = self.obstacles[int(name.removeprefix("obstacle_"))]
+        if isinstance(o, Table):
+            return f"the table (z <= {o.height} m)"
+        return repr(o)
+
+
+def describe_obstacles(obstacles: Any) -> str:
+    """One line: the obstacles as given."""
+    return ", ".join(repr(o) for o in check_obstacles(obstacles)) or "none"
+
+
+__all__ = ["DEFAULT_CLEARANCE", "Box", "CollisionChecker", "InvalidArgumentError", "Sphere", "Table"]

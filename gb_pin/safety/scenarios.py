@@ -1,0 +1,53 @@
+"""The two scenes of issue 34, as data: the SO-101 by its table around a post, a Panda with a table and a box.
+
+Used by ``scripts/safe_babbling.py`` (the acceptance runs) and the tests.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gb_pin.safety.obstacles import Box, Obstacle, Table
+
+
+class Scene(NamedTuple):
+    """A robot preset, its obstacles, its goals [m] and a servo gain for its MuJoCo plant [N m/rad]."""
+
+    robot: str
+    obstacles: tuple[Obstacle, ...]
+    goals: NDArray[np.float64]
+    kp: float
+
+
+SO101_POST = Box((0.26, 0.0, 0.045), (0.02, 0.02, 0.045))
+"""A 4 x 4 x 9 cm post standing on the SO-101's table, in the middle of its goal region."""
+
+
+def so101_scene() -> Scene:
+    """Goals 1 to 8 cm above the table the SO-101 stands on (z = 0), around the post.
+
+    A 5 x 5 x 3 grid over x 0.19-0.33 m, y +-0.07 m, z 0.01-0.08 m, less the goals within 3 cm of the
+    post (the gripper cannot be there): 48 goals. Servos of kp 100 N m/rad sag 1.9 mm at home, within
+    the clearance (kp 10 sags 18 mm: the checked posture would not be where the arm is).
+    """
+    g = np.mgrid[0.19:0.33:5j, -0.07:0.07:5j, 0.01:0.08:3j].reshape(3, -1).T
+    return Scene("so101", (Table(0.0), SO101_POST), g[~SO101_POST.contains(g, margin=0.03)], 100.0)
+
+
+PANDA_BOX = Box((0.40, 0.09, 0.40), (0.04, 0.04, 0.04))
+"""An 8 cm cube among the Panda's goals (between its grid points), in the way of its movements."""
+
+
+def panda_scene() -> Scene:
+    """The Panda's preset goals (3 x 3 x 3, half-width 0.185 m around home) over a table at z = 0, a box.
+
+    Servos of kp 3000 N m/rad sag 4.0 mm at home (kp 1000: 12 mm), within the clearance.
+    """
+    from gb_pin.robot.presets import load_robot
+
+    goals = load_robot("panda").targets
+    assert goals is not None
+    return Scene("panda", (Table(0.0), PANDA_BOX), goals, 3000.0)
