@@ -16,23 +16,31 @@ def _is_real(value: Any) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
+def _float(value: Any) -> float:
+    """``float(value)``, with integers beyond a float's range (``10**400``) as +-inf, not OverflowError."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
+
+
 def positive_float(name: str, value: Any) -> float:
     """Return ``value`` as a float if it is a finite number > 0, else raise."""
-    if not _is_real(value) or not math.isfinite(float(value)) or float(value) <= 0.0:
+    if not _is_real(value) or not math.isfinite(_float(value)) or float(value) <= 0.0:
         raise InvalidArgumentError(f"{name} must be a positive finite number, got {value!r}")
     return float(value)
 
 
 def nonnegative_float(name: str, value: Any) -> float:
     """Return ``value`` as a float if it is a finite number >= 0, else raise."""
-    if not _is_real(value) or not math.isfinite(float(value)) or float(value) < 0.0:
+    if not _is_real(value) or not math.isfinite(_float(value)) or float(value) < 0.0:
         raise InvalidArgumentError(f"{name} must be a finite number >= 0, got {value!r}")
     return float(value)
 
 
 def probability(name: str, value: Any) -> float:
     """Return ``value`` as a float if it lies in [0, 1), else raise."""
-    if not _is_real(value) or not (0.0 <= float(value) < 1.0):
+    if not _is_real(value) or not (0.0 <= _float(value) < 1.0):
         raise InvalidArgumentError(f"{name} must be a probability in [0, 1), got {value!r}")
     return float(value)
 

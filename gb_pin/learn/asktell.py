@@ -193,6 +193,7 @@ class AskTell:
         arr = reading(x, self._n)
         if arr is not None:
             self._x[:] = arr
+            self.state.note_reading(arr)
         self.pending = False
         st = self.state
         return bool(tell_step(st.rng, self._learner, self._run, self._rec, arr is not None) == MOVEMENT_DONE)
