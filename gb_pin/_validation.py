@@ -82,13 +82,28 @@ def movements(name: str, value: Any, minimum: int = 0) -> int:
     return positive_int(name, value, minimum, MAX_MOVEMENTS)
 
 
+def is_complex(value: Any) -> bool:
+    """Whether ``value`` holds complex numbers (a float conversion would drop their imaginary part)."""
+    try:
+        return bool(np.asarray(value).dtype.kind == "c")
+    except (TypeError, ValueError):
+        return False
+
+
+def _refuse_complex(name: str, value: Any) -> None:
+    if is_complex(value):
+        raise InvalidArgumentError(f"{name} must be real numbers, got complex values {value!r:.200}")
+
+
 def points(
     name: str, value: Any, dim: int, *, min_rows: int = 1, allow_single: bool = False
 ) -> NDArray[np.float64]:
     """Return ``value`` as a C-contiguous float array of shape (N, dim) with finite entries.
 
     With ``allow_single``, one point of shape (dim,) is accepted too (returned as (1, dim)).
+    Complex values are refused (never cast with their imaginary part dropped).
     """
+    _refuse_complex(name, value)
     try:
         arr = np.array(value, dtype=np.float64, ndmin=2)
     except (TypeError, ValueError) as exc:
@@ -106,7 +121,8 @@ def points(
 
 
 def vector(name: str, value: Any, dim: int) -> NDArray[np.float64]:
-    """Return ``value`` as a finite float vector of length ``dim``."""
+    """Return ``value`` as a finite float vector of length ``dim`` (complex values refused)."""
+    _refuse_complex(name, value)
     try:
         arr = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
