@@ -44,3 +44,19 @@ def test_a_tiny_max_joint_step_costs_asks_not_memory() -> None:
     assert peak < 5 * 2**20, f"{peak / 2**20:.1f} MB for 1000 asks of a 10^8-ask path"
     with pytest.raises(InvalidArgumentError, match="raise max_joint_step"):
         FeedbackReach(result.model, [0.4, 0.3], arm.lower, arm.upper, start=start, max_joint_step=1e-300)
+
+
+def test_a_map_larger_than_half_the_memory_is_refused_before_allocation(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """10^4 joints x 1000 task axes asked for 19.7 GiB before any check; now a one-line error."""
+    from gb_pin.learn import llm
+
+    monkeypatch.setattr(llm, "memory_bytes", lambda: 8 * 2**30)
+    arm = gb_pin.FunctionTarget(lambda q: np.resize(q, 1000), np.zeros(10**4), lower=-1, upper=1,
+                                targets=np.zeros((2, 1000)))  # fmt: skip
+    tracemalloc.start()
+    with pytest.raises(InvalidArgumentError, match=r"needs 19.7 GiB, more than half"):
+        gb_pin.babble(arm, movements=2, seed=0)
+    assert tracemalloc.get_traced_memory()[1] < 200 * 2**20
+    tracemalloc.stop()
