@@ -46,6 +46,18 @@ class SimulationError(GbPinError):
     """The physics simulator cannot start (MuJoCo missing) or cannot simulate what was asked."""
 
 
+class FileWriteError(GbPinError, OSError):
+    """A file could not be written (a full disk, a removed folder): the message names the file.
+
+    Also an :class:`OSError`, so that code falling back to another place on a failed write
+    (periodic checkpoints) catches it as before.
+    """
+
+
+class OnboardingBudgetError(InvalidArgumentError):
+    """Onboarding a robot (choosing its home and goal grid) took longer than its chain's time budget."""
+
+
 class GbPinWarning(UserWarning):
     """Base class of the warnings gb_pin emits."""
 
