@@ -56,7 +56,7 @@ def test_a_map_larger_than_half_the_memory_is_refused_before_allocation(
     arm = gb_pin.FunctionTarget(lambda q: np.resize(q, 1000), np.zeros(10**4), lower=-1, upper=1,
                                 targets=np.zeros((2, 1000)))  # fmt: skip
     tracemalloc.start()
-    with pytest.raises(InvalidArgumentError, match=r"needs 19.7 GiB, more than half"):
+    with pytest.raises(InvalidArgumentError, match=r"needs 19.7 GiB, more than half of the 8.0 GiB"):
         gb_pin.babble(arm, movements=2, seed=0)
     assert tracemalloc.get_traced_memory()[1] < 200 * 2**20
     tracemalloc.stop()

@@ -21,7 +21,10 @@ from gb_pin.sim import MujocoPlant, health
     ("options", "command"),
     [({"kp": 1e12}, 0.3), ({}, 1e6)],  # a gain far too stiff for the step; a command far beyond the limits
 )
-def test_an_unstable_simulation_raises_naming_the_settings(options: dict, command: float) -> None:
+def test_an_unstable_simulation_raises_naming_the_settings(
+    options: dict, command: float, tmp_path: object, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes MUJOCO_LOG.TXT where it runs
     plant = MujocoPlant("so101", **options)
     with pytest.raises(SimulationError, match=r"unstable during ask 1.*kp=") as info:
         plant.forward(np.zeros(plant.n_joints) + command)

@@ -35,11 +35,23 @@ def _row(capacity: int) -> int:
 
 
 def memory_bytes() -> int:
-    """The machine's physical memory [bytes] (0 where the platform does not say)."""
+    """The memory this process may use [bytes]: the machine's, or its address-space limit if lower.
+
+    0 where the platform says neither.
+    """
     try:
-        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+        memory = int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
     except (AttributeError, ValueError, OSError):
-        return 0
+        memory = 0
+    try:
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if limit != resource.RLIM_INFINITY and limit > 0:
+            memory = min(memory, int(limit)) if memory else int(limit)
+    except (ImportError, OSError, ValueError):
+        pass
+    return memory
 
 
 def _models(capacity: int, n: int, m: int) -> NDArray[np.float64]:
@@ -55,7 +67,7 @@ def _models(capacity: int, n: int, m: int) -> NDArray[np.float64]:
     if memory and size > memory // 2:
         raise InvalidArgumentError(
             f"the map of {capacity} prototypes for {n} task axes and {m} joints needs "
-            f"{size / 2**30:.1f} GiB, more than half of this machine's {memory / 2**30:.1f} GiB: "
+            f"{size / 2**30:.1f} GiB, more than half of the {memory / 2**30:.1f} GiB this process may use: "
             "learn fewer joints or task axes"
         )
     models = _zeros(shape)
