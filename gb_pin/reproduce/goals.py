@@ -30,8 +30,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import save_or_fallback, write_text
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError
 from gb_pin.experiments.conditions import robot_label
+from gb_pin.experiments.journal import TrialJournal
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.learn.goals import make_goals
 from gb_pin.reproduce.cache import GITIGNORE
@@ -148,13 +149,18 @@ def run_condition(
         if ts.trials == trials and ts.seed == seed and recorded == cond.schedule:
             return ts
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    journal = path[: -len(".json")] + ".journal.jsonl"
+    where = path[: -len(".json")] + ".journal.jsonl"
+    journal: str | None = where
+    try:
+        TrialJournal(where)  # created (or read) now; where it cannot be, the trials run unjournaled
+    except GbPinError:
+        journal = None
     sweep = run_sweep(
         [cond], trials=trials, seed=seed, workers=workers, progress=progress, checkpoint=journal
     )
     ts = sweep.results[0]
     save_or_fallback(path, ts.save, "the trials")  # computed at length: never lost to a failed write
-    if os.path.exists(path):
+    if os.path.exists(path) and journal is not None:
         with contextlib.suppress(OSError):
             os.remove(journal)
     return ts
