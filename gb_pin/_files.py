@@ -30,8 +30,13 @@ from gb_pin.exceptions import GbPinWarning, InvalidArgumentError
 
 _SYSTEM_DIRS = ("/proc", "/sys", "/dev")
 _TEMP_EXTRA = 16  # the temporary file's name adds ".", ".XXXXXXXX.tmp" to the file's (the lock ".lock")
-STALE_SECONDS = 60.0
-"""A temporary file of an earlier write older than this, whose writer holds no lock on it, is removed."""
+STALE_SECONDS = 2.0
+"""A temporary file of an earlier write older than this, whose writer holds no lock on it, is removed.
+
+The lock is what tells a live writer (it holds it from creating the file to renaming it); the age
+only covers the instant between a writer's ``mkstemp`` and its ``flock``. It was 60 s: a session
+killed and restarted at once left its temporary file behind for its whole next run.
+"""
 _CLEANED: set[str] = set()  # paths whose directory was cleaned of stale temporaries by this process
 
 

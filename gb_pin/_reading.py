@@ -10,6 +10,8 @@ declares (dtype, shape, size against the bytes really there) before allocating t
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import os
 import stat
 from typing import IO, Any
@@ -65,6 +67,11 @@ def open_regular(
         if not stat.S_ISREG(info.st_mode):
             kind = _KINDS.get(stat.S_IFMT(info.st_mode), "not a regular file")
             raise error(f"{label}: {kind}, not a {what} (gb_pin reads regular files only)")
+        if info.st_dev in _pseudo_devices():
+            raise error(
+                f"{label}: a file of the kernel (/proc or /sys; its reads may block), not a {what} "
+                "(gb_pin reads regular files only)"
+            )
         if info.st_size > limit:
             raise error(f"{label}: {info.st_size} bytes; gb_pin reads a {what} of at most {limit} bytes")
         os.set_blocking(fd, True)
@@ -72,6 +79,19 @@ def open_regular(
     except BaseException:
         os.close(fd)
         raise
+
+
+@functools.cache
+def _pseudo_devices() -> frozenset[int]:
+    """The devices of /proc and /sys: their files look regular (size 0) but a read may block forever."""
+    devices = set()
+    with contextlib.suppress(OSError):
+        top = os.stat("/").st_dev
+        for root in ("/proc", "/sys"):
+            with contextlib.suppress(OSError):
+                devices.add(os.stat(root).st_dev)
+        devices.discard(top)  # a /sys that is only a folder of the root file system (not mounted)
+    return frozenset(devices)
 
 
 def read_bytes(

@@ -16,23 +16,31 @@ def _is_real(value: Any) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
+def _float(value: Any) -> float:
+    """``float(value)``, with integers beyond a float's range (``10**400``) as +-inf, not OverflowError."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
+
+
 def positive_float(name: str, value: Any) -> float:
     """Return ``value`` as a float if it is a finite number > 0, else raise."""
-    if not _is_real(value) or not math.isfinite(float(value)) or float(value) <= 0.0:
+    if not _is_real(value) or not math.isfinite(_float(value)) or float(value) <= 0.0:
         raise InvalidArgumentError(f"{name} must be a positive finite number, got {value!r}")
     return float(value)
 
 
 def nonnegative_float(name: str, value: Any) -> float:
     """Return ``value`` as a float if it is a finite number >= 0, else raise."""
-    if not _is_real(value) or not math.isfinite(float(value)) or float(value) < 0.0:
+    if not _is_real(value) or not math.isfinite(_float(value)) or float(value) < 0.0:
         raise InvalidArgumentError(f"{name} must be a finite number >= 0, got {value!r}")
     return float(value)
 
 
 def probability(name: str, value: Any) -> float:
     """Return ``value`` as a float if it lies in [0, 1), else raise."""
-    if not _is_real(value) or not (0.0 <= float(value) < 1.0):
+    if not _is_real(value) or not (0.0 <= _float(value) < 1.0):
         raise InvalidArgumentError(f"{name} must be a probability in [0, 1), got {value!r}")
     return float(value)
 
@@ -74,13 +82,28 @@ def movements(name: str, value: Any, minimum: int = 0) -> int:
     return positive_int(name, value, minimum, MAX_MOVEMENTS)
 
 
+def is_complex(value: Any) -> bool:
+    """Whether ``value`` holds complex numbers (a float conversion would drop their imaginary part)."""
+    try:
+        return bool(np.asarray(value).dtype.kind == "c")
+    except (TypeError, ValueError):
+        return False
+
+
+def _refuse_complex(name: str, value: Any) -> None:
+    if is_complex(value):
+        raise InvalidArgumentError(f"{name} must be real numbers, got complex values {value!r:.200}")
+
+
 def points(
     name: str, value: Any, dim: int, *, min_rows: int = 1, allow_single: bool = False
 ) -> NDArray[np.float64]:
     """Return ``value`` as a C-contiguous float array of shape (N, dim) with finite entries.
 
     With ``allow_single``, one point of shape (dim,) is accepted too (returned as (1, dim)).
+    Complex values are refused (never cast with their imaginary part dropped).
     """
+    _refuse_complex(name, value)
     try:
         arr = np.array(value, dtype=np.float64, ndmin=2)
     except (TypeError, ValueError) as exc:
@@ -98,7 +121,8 @@ def points(
 
 
 def vector(name: str, value: Any, dim: int) -> NDArray[np.float64]:
-    """Return ``value`` as a finite float vector of length ``dim``."""
+    """Return ``value`` as a finite float vector of length ``dim`` (complex values refused)."""
+    _refuse_complex(name, value)
     try:
         arr = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:

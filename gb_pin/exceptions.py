@@ -50,6 +50,18 @@ class CameraError(GbPinError):
     """A camera cannot open or deliver a frame, OpenCV is missing, or no GL backend renders the plant."""
 
 
+class FileWriteError(GbPinError, OSError):
+    """A file could not be written (a full disk, a removed folder): the message names the file.
+
+    Also an :class:`OSError`, so that code falling back to another place on a failed write
+    (periodic checkpoints) catches it as before.
+    """
+
+
+class OnboardingBudgetError(InvalidArgumentError):
+    """Onboarding a robot (choosing its home and goal grid) took longer than its chain's time budget."""
+
+
 class GbPinWarning(UserWarning):
     """Base class of the warnings gb_pin emits."""
 

@@ -49,9 +49,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import fuzz_classes
 import fuzz_mutations
 import fuzz_probes
+import fuzz_round4
 from fuzz_probes import Probe
 
-_ = fuzz_classes
+_ = fuzz_classes, fuzz_round4
 
 MEMORY_LIMIT = 3 << 30  # bytes of address space a probe may add to this process's
 HARD_EXTRA = 15.0  # [s] beyond a probe's own alarm before it is killed

@@ -18,7 +18,9 @@ READERS = {"result", "result_urdf", "checkpoint", "session", "journal", "trials"
            "points_npy", "ik_targets", "preset", "urdf", "plot_result", "plot_trials", "srdf",
            "doc", "meshes"}  # fmt: skip
 CLASSES = {"0 mutations", "1 bounds", "2 integers", "3 wrong files", "4 failed writes", "5 processes",
-           "6 MODULE:NAME", "7 viewer server", "8 robot descriptions", "9 messages"}  # fmt: skip
+           "6 MODULE:NAME", "7 viewer server", "8 robot descriptions", "9 messages", "10 viewer backpressure",
+           "11 plant", "12 interrupts", "13 memory", "14 onboarding", "15 kernel files", "16 silent values",
+           "17 disk"}  # fmt: skip
 
 
 def test_every_reader_and_every_class_answers_with_success_or_gb_pins_error(tmp_path: Path) -> None:

@@ -99,7 +99,14 @@ def _protocol(args: argparse.Namespace) -> int:
     import gb_pin.cli.checks as checks
     from gb_pin import _validation as check
     from gb_pin.exceptions import InvalidArgumentError
-    from gb_pin.experiments.ik_protocol import BEGIN, END, format_report, protocol_target, run_protocol
+    from gb_pin.experiments.ik_protocol import (
+        BEGIN,
+        END,
+        check_samples,
+        format_report,
+        protocol_target,
+        run_protocol,
+    )
     from gb_pin.experiments.robot_bench import update_document
 
     if not args.ik:
@@ -110,7 +117,8 @@ def _protocol(args: argparse.Namespace) -> int:
     check.generator(args.seed)
     movements = 3000 if args.movements is None else args.movements
     check.movements("--movements", movements, minimum=1)
-    protocol_target(args.robot, args.task)  # a bad robot or task fails before anything runs
+    # a bad robot or task, or more samples than fit, fails before anything runs
+    check_samples(protocol_target(args.robot, args.task), args.samples)
     checks.outputs(args, doc="--doc")
     report = run_protocol(
         args.robot, args.task, args.samples, timeout=args.timeout, movements=movements, paths=args.paths,

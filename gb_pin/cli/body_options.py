@@ -123,17 +123,25 @@ def _default(value: float | str | None) -> str:
 
 
 def parse_spec(option: str, text: str, defaults: dict[str, float | str | None]) -> dict[str, Any]:
-    """``key=value,...`` over ``defaults``' keys: numbers, or words where the default is a word.
+    """``key=value,...`` over ``defaults``' keys: numbers, or words where the default is a word
+    (``auto``: a key's own default, as --help shows).
 
     Raises:
-        InvalidArgumentError: an unknown key (the closest named), a value that is not a finite number.
+        InvalidArgumentError: an unknown key (the closest named), a key given twice, a value that is
+            not a finite number.
     """
     values = dict(defaults)
+    seen: set[str] = set()
     for item in filter(None, (part.strip() for part in text.split(","))):
         key, sep, raw = item.partition("=")
         key = key.strip()
         if not sep or key not in defaults:
             raise InvalidArgumentError(f"{option}: unknown key {key!r}; {suggest(key, list(defaults))}")
+        if key in seen:
+            raise InvalidArgumentError(f"{option}: {key} given twice in {text!r}; give each key once")
+        seen.add(key)
+        if raw.strip().lower() == "auto" and defaults[key] is None:
+            continue  # the default --help shows as auto
         if isinstance(defaults[key], str):
             values[key] = raw.strip()
             continue

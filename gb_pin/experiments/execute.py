@@ -253,7 +253,8 @@ def _interrupted(results: list[TrialOutput | None], journal: TrialJournal | None
             f"{head}: {finished} of {total} trials finished, journaled in {journal.writing}; "
             "run the same command again to compute only the others"
         )
-    return f"{head}: {finished} of {total} trials finished (a journal, --checkpoint FILE, keeps them)"
+    # (no command-line option named: this runs under gb-pin trials, sweep, reproduce and from Python)
+    return f"{head}: {finished} of {total} trials finished, not journaled (a rerun computes them again)"
 
 
 def _check_executor(workers: int | None, scheduler: Any) -> int | None:

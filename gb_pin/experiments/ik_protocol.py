@@ -20,6 +20,7 @@ import platform
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -171,6 +172,30 @@ def _learn(target: KinematicTarget, movements: int, rng: np.random.Generator):  
     return babble(target, movements=movements, seed=0, targets=target.forward(near), goals="directions").model
 
 
+MAX_PROTOCOL_BYTES = 2**31
+"""The most memory the protocol's per-sample arrays may take (2 GiB): checked before anything runs."""
+
+
+def check_samples(target: Any, samples: int) -> int:
+    """``samples`` if the protocol's arrays for them fit in :data:`MAX_PROTOCOL_BYTES`, else an error.
+
+    Per sample the protocol holds the posture and its task vector, and one solve's answers (its
+    posture, seed, reached vector, residuals and counters) beside the previous solve's while the
+    next is built: about 16 (2m + n + 8) bytes.
+
+    Raises:
+        InvalidArgumentError: naming the most samples that fit.
+    """
+    per_sample = 16 * (2 * target.n_joints + target.n_task + 8)
+    most = MAX_PROTOCOL_BYTES // per_sample
+    if samples > most:
+        raise InvalidArgumentError(
+            f"--samples {samples} needs about {samples * per_sample / 2**30:.1f} GiB for {target.name!r}; "
+            f"at most {most} samples fit in {MAX_PROTOCOL_BYTES / 2**30:g} GiB"
+        )
+    return samples
+
+
 def run_protocol(
     robot: str = "panda",
     task: str = "pose",
@@ -194,6 +219,7 @@ def run_protocol(
     start = time.perf_counter()
     say = progress or (lambda line: None)
     target = protocol_target(robot, task)
+    check_samples(target, samples)
     rng = np.random.default_rng(seed)
     model = _learn(target, movements, np.random.default_rng([seed, 1]))
     say(f"{robot} {task}: learned {model.n_prototypes_} prototypes in {movements} movements")

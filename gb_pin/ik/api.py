@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._interrupt import interruptible
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.ik.clock import CLOCKS
 from gb_pin.ik.robot import as_components, chain_of, ik_robot, resolve
@@ -278,8 +279,24 @@ def solve(
         np.zeros(N), np.empty((N, m)),
     )  # fmt: skip
     rows = sum(int(size) if kind == POSITION else 3 for kind, size in zip(*_kinds_sizes(chain), strict=True))
-    solve_batch(pts, ik_robot(robot, chain), settings, seeds, out, search_scratch(rows, m, C, k))
+    scratch = search_scratch(rows, m, C, k)
+    ik = ik_robot(robot, chain)
+    interruptible(
+        lambda: solve_batch(pts, ik, settings, seeds, out, scratch),
+        scratch.work.stop,
+        _longest(N, settings),
+    )
     return IKSolution.of(pts, out, settings, label, chain)
+
+
+def _longest(N: int, settings: IKSettings) -> float:
+    """A bound on the seconds a batch of ``N`` targets may take (inf: unbounded or unknown)."""
+    if settings.timeout < np.inf:
+        return N * settings.timeout * 1.01
+    if settings.max_restarts < 0:
+        return np.inf
+    steps = N * (settings.max_restarts + 1) * (settings.max_iterations + 1) * (settings.backtracks + 1)
+    return steps * 1e-6  # about 1 us a step of a small arm: long calls go to a worker thread
 
 
 def solve_path(

@@ -253,6 +253,8 @@ def solve_batch(X, robot, settings, seeds, out, scratch):  # type: ignore[no-unt
     w, q, best, kept, dist, state = scratch
     lower, upper, lo, hi = robot.lower, robot.upper, robot.sample_lower, robot.sample_upper
     for r in range(N):
+        if w.stop[0] != 0:  # interrupted (Ctrl-C): the caller raises KeyboardInterrupt
+            return
         start = now(settings.clock, w.clock_buf)
         deadline = start + settings.timeout if settings.timeout < np.inf else np.inf
         goal_from_task(robot.comps, X[r], w.goal[0], w.goal[1])
@@ -286,7 +288,7 @@ def solve_batch(X, robot, settings, seeds, out, scratch):  # type: ignore[no-unt
             if restarts == 0:
                 # a path point whose warm start failed searches the whole budget for the nearest
                 search_all = settings.closest or (settings.follow and r > 0 and not success)
-            if count == k and not search_all:
+            if (count == k and not search_all) or w.stop[0] != 0:
                 break
             if settings.max_restarts >= 0 and restarts >= settings.max_restarts:
                 break

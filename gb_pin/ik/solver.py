@@ -127,6 +127,7 @@ class Work(NamedTuple):
     goal: tuple[NDArray[np.float64], NDArray[np.float64]]  # (C, 3) positions, (C, 3, 3) rotations
     geo: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]  # W, p, M
     clock_buf: NDArray[np.int64]  # (2,) timespec
+    stop: NDArray[np.int64]  # (1,) set to 1 from another thread (Ctrl-C): the batch returns at once
 
 
 def work_buffers(n_e: int, m: int, C: int) -> Work:
@@ -136,6 +137,7 @@ def work_buffers(n_e: int, m: int, C: int) -> Work:
         np.empty((n_e, m)), np.empty((d, d)), np.empty(n_e), np.empty(d), np.empty(m), np.empty(m),
         np.empty(m), np.empty(C), (np.zeros((C, 3)), np.zeros((C, 3, 3))),
         (np.empty((3, 3)), np.empty(3), np.empty((3, 3))), np.zeros(2, dtype=np.int64),
+        np.zeros(1, dtype=np.int64),
     )  # fmt: skip
 
 
@@ -233,7 +235,8 @@ def evaluate(q, robot, w):  # type: ignore[no-untyped-def]
 def refine(q, robot, settings, w, deadline):  # type: ignore[no-untyped-def]
     """Refine ``q`` (m,) in place towards the goal in ``w.goal``; returns (error norm, steps, success).
 
-    ``deadline``: clock time [s] at which to stop (inf: none).
+    ``deadline``: clock time [s] at which to stop (inf: none). Every 8 steps it also stops when
+    ``w.stop[0]`` is set (Ctrl-C, from the calling thread: :func:`~gb_pin.ik.search.solve_batch`).
     """
     lower, upper = robot.lower, robot.upper
     lam2 = settings.damping * settings.damping
@@ -253,7 +256,8 @@ def refine(q, robot, settings, w, deadline):  # type: ignore[no-untyped-def]
             or abs(previous - cost) < STAGNANT + PROGRESS * cost
         ):
             return cost, steps, False
-        if timed and steps % 8 == 0 and now(settings.clock, w.clock_buf) >= deadline:  # a read every 8 steps
+        # a read of the stop flag (and of the clock) every 8 steps
+        if steps % 8 == 0 and (w.stop[0] != 0 or (timed and now(settings.clock, w.clock_buf) >= deadline)):
             return cost, steps, False
         # Levenberg-Marquardt damping that shrinks with the error (Sugihara 2011): strong far from
         # the goal, where the linearisation is poor, vanishing at it, where Newton steps converge fast

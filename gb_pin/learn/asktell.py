@@ -246,6 +246,7 @@ class AskTell:
         done = posture(executed, self._q.shape[0])
         if arr is not None:
             self._x[:] = arr
+            self.state.note_reading(arr)
         self.pending = False
         st = self.state
         if done is None:

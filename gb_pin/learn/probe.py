@@ -16,24 +16,88 @@ mean (and counted in :attr:`EvaluationMoves.unobserved`).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 
 import numpy as np
 from numpy.typing import NDArray
+
+from gb_pin.exceptions import InvalidArgumentError
 
 EVALUATION = "evaluation"
 TRANSIT = "transit"
 
 
-def joint_path(
-    start: NDArray[np.float64], end: NDArray[np.float64], max_step: float
-) -> list[NDArray[np.float64]]:
-    """Postures from ``start`` (excluded) to ``end`` (included), no joint moving more than ``max_step``.
+MAX_PATH_ASKS = 10**9
+"""The most asks of one joint path (a path longer than this is refused: ``max_joint_step`` too small)."""
+MAX_PLANNED_ASKS = 10**6
+"""The most asks of one evaluation's plan (kept in memory: about 150 bytes an ask)."""
 
-    A straight line in joint space in equal steps; one step when ``max_step`` is inf or not exceeded.
+
+def path_steps(start: NDArray[np.float64], end: NDArray[np.float64], max_step: float) -> int:
+    """The asks from ``start`` to ``end`` with no joint moving more than ``max_step`` per ask.
+
+    Raises:
+        InvalidArgumentError: more than :data:`MAX_PATH_ASKS` (``max_step`` far too small).
     """
     span = float(np.max(np.abs(end - start))) if start.size else 0.0
-    k = 1 if not math.isfinite(max_step) or span <= max_step else math.ceil(span / max_step)
-    return [start + (end - start) * (i / k) for i in range(1, k)] + [end.copy()]
+    if not math.isfinite(max_step) or span <= max_step:
+        return 1
+    k = span / max_step
+    if not k <= MAX_PATH_ASKS:
+        raise InvalidArgumentError(
+            f"max_joint_step={max_step!r} makes a joint path of {k:.3g} asks (a joint moves {span:.3g}), "
+            f"more than {MAX_PATH_ASKS:g}: raise max_joint_step"
+        )
+    return math.ceil(k)
+
+
+class JointPath:
+    """Postures from ``start`` (excluded) to ``end`` (included), no joint moving more than ``max_step``.
+
+    A straight line in joint space in equal steps (one step when ``max_step`` is inf or not
+    exceeded), computed one posture at a time: a tiny ``max_step`` costs asks, not memory (the
+    whole path as a list took 2.7 GB and growing). It reads as the list of the postures left:
+    ``len``, ``path[i]``, ``pop(0)`` (the next posture, then advance), iteration.
+
+    Raises:
+        InvalidArgumentError: more than :data:`MAX_PATH_ASKS` asks.
+    """
+
+    def __init__(self, start: NDArray[np.float64], end: NDArray[np.float64], max_step: float) -> None:
+        self.steps = path_steps(start, end, max_step)
+        self._start, self._delta, self._end = start.copy(), end - start, end.copy()
+        self._next = 1  # the index of the next posture (1..steps)
+
+    def __len__(self) -> int:
+        return self.steps - self._next + 1
+
+    def __bool__(self) -> bool:
+        return self._next <= self.steps
+
+    def __getitem__(self, i: int) -> NDArray[np.float64]:
+        left = len(self)
+        if i < 0:
+            i += left
+        if not 0 <= i < left:
+            raise IndexError(f"joint path index {i} out of range ({left} postures left)")
+        j = self._next + i
+        return self._end.copy() if j == self.steps else self._start + self._delta * (j / self.steps)
+
+    def __iter__(self) -> Iterator[NDArray[np.float64]]:
+        return (self[i] for i in range(len(self)))
+
+    def pop(self, i: int = 0) -> NDArray[np.float64]:
+        """The next posture, then advance (only ``i`` = 0: a path is walked in order)."""
+        if i != 0:
+            raise IndexError("a joint path is walked in order: pop(0) only")
+        item = self[0]
+        self._next += 1
+        return item
+
+
+def joint_path(start: NDArray[np.float64], end: NDArray[np.float64], max_step: float) -> JointPath:
+    """The :class:`JointPath` from ``start`` (excluded) to ``end`` (included)."""
+    return JointPath(start, end, max_step)
 
 
 class EvaluationMoves:
@@ -58,9 +122,18 @@ class EvaluationMoves:
         self.targets = targets
         self.retries = int(retries)
         plan: list[tuple[str, int, NDArray[np.float64]]] = []
+        here, asks = start, 0
+        for q in [*postures, start]:
+            asks += path_steps(here, q, max_step)
+            here = q
+        if asks > MAX_PLANNED_ASKS:
+            raise InvalidArgumentError(
+                f"max_joint_step={max_step!r} makes one evaluation {asks} asks, more than "
+                f"{MAX_PLANNED_ASKS}: raise max_joint_step"
+            )
         here = start
         for i, q in enumerate(postures):
-            plan += [(TRANSIT, -1, p) for p in joint_path(here, q, max_step)[:-1]]
+            plan += [(TRANSIT, -1, p) for p in list(joint_path(here, q, max_step))[:-1]]
             plan.append((EVALUATION, i, q.copy()))
             here = q
         plan += [(TRANSIT, -1, p) for p in joint_path(here, start, max_step)]

@@ -35,6 +35,10 @@ class NoSensorArrays(NamedTuple):
     kind: int
 
 
+MAX_NOISE = 1e6
+"""The largest sensor noise [m]: readings scattered farther make the learner's sums overflow."""
+
+
 class SensorArrays(NamedTuple):
     """A sensor as the compiled :func:`observe` takes it.
 
@@ -107,6 +111,10 @@ class Sensor:
         if arr.ndim > 1 or values.size == 0 or not np.all(np.isfinite(values)) or np.any(values < 0):
             raise InvalidArgumentError(
                 f"noise must be >= 0 and finite [m] (one number or one per axis), got {noise!r}"
+            )
+        if np.any(values > MAX_NOISE):
+            raise InvalidArgumentError(
+                f"noise must be at most {MAX_NOISE:g} m (readings beyond overflow the learner), got {noise!r}"
             )
         self.noise = values.copy()
         self.loss = check.probability("loss", loss)

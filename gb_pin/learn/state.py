@@ -25,6 +25,9 @@ from gb_pin.learn.sensor import NO_SENSOR, Sensor, SensorArrays, observe_into
 REACH_WINDOW = 50
 """Goal-directed movements over which the free measure of progress is a running median."""
 
+OUTLIER = 100.0
+"""A reading beyond this many times the goal set's extent is named as the cause of a divergence."""
+
 
 class BabbleState:
     """The complete state of a goal-babbling run: everything the compiled loop reads and writes.
@@ -39,6 +42,7 @@ class BabbleState:
     REC_DTYPES: ClassVar[dict[str, type]] = dict(zip(RecordedSteps.FIELDS, RecordedSteps.DTYPES, strict=True))
 
     def __init__(self) -> None:
+        self.far_reading: tuple[int, int, NDArray[np.float64]] | None = None  # (note_reading)
         self.rng: np.random.Generator
         self.config: BabbleConfig
         self.chain: KinematicChain | None
@@ -359,9 +363,26 @@ class BabbleState:
                             self.targets.shape[1])  # fmt: skip
         self.vectors["path_end"][:] = goal
 
+    def note_reading(self, x: NDArray[np.float64]) -> None:
+        """Remember ``x`` if it lies beyond :data:`OUTLIER` times the goal set's extent (ask/tell).
+
+        Should the estimate diverge later, the error names that reading, not the settings.
+        """
+        if float(np.max(np.abs(x))) > OUTLIER * max(float(np.max(np.abs(self.targets))), 0.1):
+            self.far_reading = (self.movements, self.steps, x.copy())
+
     def _diverged(self) -> None:
         cfg = self.config
         x, q = self.vectors["x_prev"], self.vectors["q_prev"]
+        if self.far_reading is not None:
+            movement, step, reading = self.far_reading
+            raise DivergenceError(
+                f"the reading {np.array2string(reading, precision=4)} told at movement {movement} "
+                f"(step {step}) lies far outside the goal set (largest |coordinate| "
+                f"{float(np.max(np.abs(self.targets))):.3g} m) and the inverse estimate diverged from it: "
+                "a sensor outlier or a reading in the wrong unit, not the learner's settings; tell None "
+                "for a reading that cannot be trusted"
+            )
         if not np.all(np.isfinite(x)):  # the learner learned from a non-finite observation
             raise DivergenceError(
                 f"the forward model returned the non-finite position {np.array2string(x)} for the posture "
@@ -370,6 +391,13 @@ class BabbleState:
                 "the learner; it must return finite positions for every posture within the joint limits"
             )
         reach = float(np.max(np.abs(self.targets)))
+        if float(np.max(np.abs(x))) > OUTLIER * max(reach, 0.1):
+            raise DivergenceError(
+                f"the reading {np.array2string(x, precision=4)} (movement {self.movements}, step "
+                f"{self.steps}) lies far outside the goal set (largest |coordinate| {reach:.3g} m) and "
+                "the inverse estimate diverged from it: a sensor outlier or a reading in the wrong unit, "
+                "not the learner's settings; pass None for a reading that cannot be trusted"
+            )
         raise DivergenceError(
             f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
             f"a posture became non-finite or exceeded {layout.MAX_POSTURE:g}. Likely causes: "

@@ -18,6 +18,7 @@ Written: ``goals_<robot>.png`` per robot, ``goals.json``, ``goals.csv`` and ``go
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -29,8 +30,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._files import save_or_fallback, write_text
-from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError
 from gb_pin.experiments.conditions import robot_label
+from gb_pin.experiments.journal import TrialJournal
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.learn.goals import make_goals
 from gb_pin.reproduce.cache import GITIGNORE
@@ -134,7 +136,12 @@ def _cache_file(out: str, label: str, cond: Condition, trials: int, seed: int) -
 def run_condition(
     out: str, label: str, cond: Condition, trials: int, seed: int, workers: int | None, progress: bool
 ) -> TrialSet:
-    """A condition's trials, read from ``OUT/trials/`` if cached there, else run and cached."""
+    """A condition's trials, read from ``OUT/trials/`` if cached there, else run and cached.
+
+    While they run, finished trials are journaled beside the cache file (``.journal.jsonl``): a
+    rerun after Ctrl-C or a failed write computes only the others; the journal is removed once the
+    condition's file is written.
+    """
     path = _cache_file(out, label, cond, trials, seed)
     if os.path.exists(path):
         ts = TrialSet.load(path)
@@ -142,8 +149,20 @@ def run_condition(
         if ts.trials == trials and ts.seed == seed and recorded == cond.schedule:
             return ts
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    ts = run_sweep([cond], trials=trials, seed=seed, workers=workers, progress=progress).results[0]
+    where = path[: -len(".json")] + ".journal.jsonl"
+    journal: str | None = where
+    try:
+        TrialJournal(where)  # created (or read) now; where it cannot be, the trials run unjournaled
+    except GbPinError:
+        journal = None
+    sweep = run_sweep(
+        [cond], trials=trials, seed=seed, workers=workers, progress=progress, checkpoint=journal
+    )
+    ts = sweep.results[0]
     save_or_fallback(path, ts.save, "the trials")  # computed at length: never lost to a failed write
+    if os.path.exists(path) and journal is not None:
+        with contextlib.suppress(OSError):
+            os.remove(journal)
     return ts
 
 

@@ -139,6 +139,11 @@ class FunctionTarget(BlackBox):
                     f"forward model {self.name!r} returned None at q = {q.tolist()}: a forward model returns "
                     "a position; a robot whose readings go missing runs in a session (tell(None))"
                 )
+            if check.is_complex(raw):
+                raise InvalidArgumentError(
+                    f"forward model {self.name!r} returned complex values {raw!r:.200} at q = {q.tolist()}: "
+                    "a position is real (the imaginary part would be dropped)"
+                )
             x = np.asarray(raw, dtype=np.float64)
         except InvalidArgumentError:
             raise

@@ -25,6 +25,7 @@ import pinocchio as pin
 from gb_pin._names import closest
 from gb_pin._reading import open_regular, read_bytes
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
+from gb_pin.robot.description_checks import check_limits, check_reference_states
 
 _SHARE = ("share", "example-robot-data", "robots")
 
@@ -288,6 +289,7 @@ def load_urdf_model(
     *,
     srdf: str | os.PathLike[str] | None = None,
     floating_base: bool = False,
+    known_states: bool = True,
 ) -> pin.Model:
     """Build the kinematic model of a URDF file (no geometry), with the SRDF's reference configurations.
 
@@ -299,10 +301,13 @@ def load_urdf_model(
         srdf: an SRDF file whose ``group_state`` entries become the model's
             reference configurations (e.g. ``half_sitting``).
         floating_base: add a free-flyer root joint (for mobile robots).
+        known_states: refuse SRDF states naming joints the URDF lacks (False for example-robot-data's
+            own files, whose SRDFs name joints of fuller models, e.g. Romeo's toes).
 
     Raises:
         InvalidArgumentError: missing, malformed, not a regular file or too large
-            (:func:`check_urdf_size`) URDF or SRDF.
+            (:func:`check_urdf_size`) URDF or SRDF; a joint whose lower limit exceeds its upper;
+            an SRDF state naming a joint the URDF lacks or holding a non-number.
     """
     urdf = Path(os.fspath(path))
     if not urdf.exists():
@@ -315,6 +320,7 @@ def load_urdf_model(
         raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {str(exc)[:300]}") from exc
     if model.njoints <= 1:
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} describes no joint: nothing to move")
+    check_limits(model, f"URDF file {str(urdf)!r}")
     if srdf is not None:
         srdf_path = Path(os.fspath(srdf))
         if not srdf_path.exists():
@@ -325,6 +331,7 @@ def load_urdf_model(
             pin.loadReferenceConfigurationsFromXML(model, xml, False)
         except (ValueError, RuntimeError, IndexError) as exc:
             raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
+        check_reference_states(model, xml, label, text if known_states else None)
     return model
 
 
@@ -346,7 +353,9 @@ def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:
     entry = describe(name)
     root = example_robot_data_dir()
     srdf = None if entry.srdf is None else root / entry.srdf
-    model = load_urdf_model(root / entry.urdf, srdf=srdf, floating_base=entry.floating_base)
+    model = load_urdf_model(
+        root / entry.urdf, srdf=srdf, floating_base=entry.floating_base, known_states=False
+    )
     return model, entry, root / entry.urdf
 
 

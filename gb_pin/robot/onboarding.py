@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -44,7 +45,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin.exceptions import GbPinError, InvalidArgumentError
+from gb_pin.exceptions import GbPinError, InvalidArgumentError, OnboardingBudgetError
 from gb_pin.robot.reachability import positions, sampling_bounds
 from gb_pin.robot.targets_auto import AutoGrid, auto_grid
 
@@ -56,6 +57,8 @@ if TYPE_CHECKING:
 CANDIDATES = 200  # seeded home candidates, besides the reference posture and the middle of the limits
 BAND = 0.15  # candidates avoid this fraction of each joint's range at either end
 MARGIN_FULL = 0.2  # a joint this far from its limits (fraction of its range) is not penalised
+BUDGET_SECONDS = 30.0  # onboarding's time budget [s] (Budget), plus ...
+BUDGET_PER_JOINT = 0.1  # ... this much a joint [s]
 SHORTLIST = 6  # candidates whose reachable grid is measured
 SHORTLIST_SAMPLES = 5000  # postures sampled for their grids (the final grid uses the default 20 000)
 PROBE_MOVEMENTS = 300  # movements of each short run that probes how well a candidate home learns
@@ -243,6 +246,32 @@ class HomeChoice:
     largest_half_width: float
 
 
+class Budget:
+    """The time onboarding may take: :data:`BUDGET_SECONDS` plus :data:`BUDGET_PER_JOINT` a joint.
+
+    The search measures grids of ever more candidates; a chain of 200 joints took 9 minutes and
+    one of 998 ran on for more than 5: past the budget it stops with one line saying how to skip it.
+    """
+
+    def __init__(self, joints: int, name: str = "the robot") -> None:
+        self.seconds = BUDGET_SECONDS + BUDGET_PER_JOINT * joints
+        self.joints, self.name = joints, name
+        self.end = time.monotonic() + self.seconds
+
+    def check(self) -> None:
+        """Raise once the budget is spent.
+
+        Raises:
+            OnboardingBudgetError: naming the budget and what to give instead.
+        """
+        if time.monotonic() > self.end:
+            raise OnboardingBudgetError(
+                f"onboarding {self.name!r} ({self.joints} joints) took more than its {self.seconds:.0f} s "
+                f"({BUDGET_SECONDS:g} s + {BUDGET_PER_JOINT:g} s a joint): give a home (--home, home=) and "
+                "a goal set (--targets, targets=), or fewer joints (--joints, joints=), to skip the search"
+            )
+
+
 def choose_home(robot: Robot, reference: NDArray[np.float64] | None = None, seed: int = 0) -> HomeChoice:
     """A home inside the limits, away from them and from singularities, with a large reachable grid.
 
@@ -256,9 +285,11 @@ def choose_home(robot: Robot, reference: NDArray[np.float64] | None = None, seed
     Raises:
         InvalidArgumentError: fewer joints than task axes (no 3-D grid around any home), or no
             candidate has a reachable grid.
+        OnboardingBudgetError: the search took longer than its :class:`Budget`.
     """
     lo, hi = sampling_bounds(robot)
     m, n = lo.shape[0], robot.chain.n_task
+    budget = Budget(m, str(getattr(robot, "name", "the robot")))
     if m < n:
         raise InvalidArgumentError(
             f"the frame is moved by {m} joint(s): it cannot reach a {n}-D goal grid; choose at most "
@@ -275,9 +306,12 @@ def choose_home(robot: Robot, reference: NDArray[np.float64] | None = None, seed
     score = np.minimum(margin / MARGIN_FULL, 1.0) * sigma
     trials: list[tuple[float, float, float, int]] = []  # (probe E^X / E_0, largest width, score, index)
     for i in np.argsort(-score, kind="stable")[:SHORTLIST]:
+        budget.check()
         view = _Candidate(robot.chain, Q[i], robot.lower, robot.upper)
         try:
-            grid = auto_grid(view, seed=seed, samples=SHORTLIST_SAMPLES, scale=GRID_SCALE)
+            grid = auto_grid(view, seed=seed, samples=SHORTLIST_SAMPLES, scale=GRID_SCALE, deadline=budget)
+        except OnboardingBudgetError:
+            raise
         except GbPinError:
             continue
         trials.append((probe(view, grid), grid.largest_half_width, float(score[i]), int(i)))
@@ -310,8 +344,13 @@ def probe(robot: Robot, grid: AutoGrid) -> float:
 
 
 def goal_grid(robot: Robot, seed: int = 0) -> AutoGrid:
-    """The onboarding's goal grid: :data:`GRID_SCALE` of the largest reachable grid around the home."""
-    return auto_grid(robot, seed=seed, scale=GRID_SCALE)
+    """The onboarding's goal grid: :data:`GRID_SCALE` of the largest reachable grid around the home.
+
+    Raises:
+        OnboardingBudgetError: the search took longer than its :class:`Budget`.
+    """
+    budget = Budget(int(np.size(robot.lower)), str(getattr(robot, "name", "the robot")))
+    return auto_grid(robot, seed=seed, scale=GRID_SCALE, deadline=budget)
 
 
 def record(

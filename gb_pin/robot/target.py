@@ -30,7 +30,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnreachableTargetWarning
+from gb_pin.exceptions import (
+    GbPinError,
+    InvalidArgumentError,
+    OnboardingBudgetError,
+    UnreachableTargetWarning,
+)
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.robot.chain_reader import JointTable, parse_axes, read_chain, read_joints, read_limits
 from gb_pin.robot.loaders import ModelLoaders
@@ -168,6 +173,8 @@ class KinematicTarget(PinocchioModels, ModelLoaders):
         """
         try:
             return goal_grid(self)
+        except OnboardingBudgetError:
+            raise
         except InvalidArgumentError as exc:
             if not given_home:
                 raise

@@ -119,6 +119,7 @@ def auto_grid(
     samples: int = SAMPLES,
     scale: float = 1.0,
     resolution: float = 0.005,
+    deadline: Any = None,
 ) -> AutoGrid:
     """The largest reachable regular grid centred on the home effector position.
 
@@ -136,6 +137,8 @@ def auto_grid(
         samples: postures sampled.
         scale: fraction of the largest reachable half-width to use, in (0, 1].
         resolution: the half-width is a multiple of this [m].
+        deadline: an object whose ``check()`` raises once the time is spent (onboarding's
+            :class:`~gb_pin.robot.onboarding.Budget`), called before each grid is measured.
 
     Raises:
         InvalidArgumentError: bad arguments, or no grid of at least ``resolution``
@@ -150,6 +153,8 @@ def auto_grid(
     center = robot.chain.forward(np.ascontiguousarray(robot.home, dtype=float))
 
     def ok(h: float) -> bool:
+        if deadline is not None:
+            deadline.check()
         grid = regular_grid(center, h, counts)
         return bool(np.all(check_reachable(robot, grid, sampled=sampled).reachable))
 

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin._files import check_writable, fallback_path
-from gb_pin.exceptions import GbPinWarning, InvalidArgumentError
+from gb_pin.exceptions import FileWriteError, GbPinWarning, InvalidArgumentError
 from gb_pin.learn.asktell import AskTell, posture, reading
 from gb_pin.learn.feedback import FeedbackReach
 from gb_pin.learn.metrics import evaluation_schedule
@@ -301,6 +301,7 @@ class BabbleSession:
         Raises:
             InvalidArgumentError: no file given or set, a path that cannot be written, another run's
                 file, or nothing to save yet (an external robot's home reading has not arrived).
+            FileWriteError: the write failed (a full disk), naming the file (also an OSError).
         """
         from gb_pin.runs.checkpoint import CheckpointInfo, checkpoint_lock, robot_state, write_checkpoint
         from gb_pin.runs.robot_source import describe
@@ -322,7 +323,14 @@ class BabbleSession:
         with ExitStack() as locks:
             if not same:
                 locks.enter_context(checkpoint_lock(where))
-            write_checkpoint(where, self.state, info)
+            try:
+                write_checkpoint(where, self.state, info)
+            except FileWriteError:
+                raise
+            except OSError as exc:
+                error = FileWriteError(f"cannot write the checkpoint {where!r}: {exc.strerror or exc}")
+                error.errno = exc.errno
+                raise error from exc
         return where
 
     def _checkpoint_or_fall_back(self) -> None:

@@ -129,8 +129,8 @@ class RunSpec:
             check.positive_float("until_error", self.until_error)
         if self.max_joint_step is not None and not (
             check._is_real(self.max_joint_step)
-            and float(self.max_joint_step) > 0
-            and not math.isnan(self.max_joint_step)
+            and check._float(self.max_joint_step) > 0
+            and math.isfinite(check._float(self.max_joint_step))
         ):
             raise InvalidArgumentError(
                 "max_joint_step must be > 0 ([rad] or [m] per step; None: no limit), "

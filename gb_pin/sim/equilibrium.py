@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gb_pin.sim import health
 from gb_pin.sim.servos import Servos
 from gb_pin.sim.settling import Settling
 
@@ -34,7 +35,13 @@ REST = Settling(time=20.0, tolerance=1e-7)
 
 
 def static_posture(
-    mujoco: Any, model: Any, data: Any, dofs: NDArray[np.int64], command: NDArray[np.float64], servos: Servos
+    mujoco: Any,
+    model: Any,
+    data: Any,
+    dofs: NDArray[np.int64],
+    command: NDArray[np.float64],
+    servos: Servos,
+    budget: health.StepBudget | None = None,
 ) -> NDArray[np.float64]:
     """The posture (m,) at which the arm rests under ``command`` (m,), in the order of q.
 
@@ -45,6 +52,10 @@ def static_posture(
         dofs: (m,) the qpos (= dof) address of each entry of q.
         command: the commanded posture q_cmd.
         servos: the servos (kp, force limits).
+        budget: the MuJoCo steps the simulated fallback may take (None: one evaluation's own).
+
+    Raises:
+        SimulationError: the simulated fallback went unstable or ran beyond its budget.
     """
     q = command.copy()
     data.qvel[:] = 0.0
@@ -63,16 +74,25 @@ def static_posture(
             break  # the servos cannot give that torque: the arm sinks further
         if not change < np.inf:  # diverged (inf or NaN)
             break
-    return _simulated(mujoco, model, data, dofs, command)
+    return _simulated(mujoco, model, data, dofs, command, budget or health.StepBudget(servos.describe()))
 
 
 def _simulated(
-    mujoco: Any, model: Any, data: Any, dofs: NDArray[np.int64], command: NDArray[np.float64]
+    mujoco: Any,
+    model: Any,
+    data: Any,
+    dofs: NDArray[np.int64],
+    command: NDArray[np.float64],
+    budget: health.StepBudget,
 ) -> NDArray[np.float64]:
-    """The posture after holding ``command`` from rest at it until the arm stops (or 20 s)."""
+    """The posture after holding ``command`` from rest at it until the arm stops (or 20 s, or the budget)."""
     mujoco.mj_resetData(model, data)
     data.qpos[dofs] = command
     data.ctrl[:] = command  # actuator a drives entry a of q
     mujoco.mj_forward(model, data)
-    REST.hold(mujoco, model, data)
+    most = REST.steps(float(model.opt.timestep))[0]
+    steps = REST.hold(mujoco, model, data, limit=budget.left)
+    health.check_state(mujoco, data, 0, budget.settings, "the simulated resting posture")
+    at_rest = steps < most and steps < budget.left
+    budget.spend(steps, at_rest or steps >= most)
     return np.array(data.qpos[dofs])

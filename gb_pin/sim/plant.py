@@ -40,7 +40,7 @@ from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.sensor import Sensor, observe_into
 from gb_pin.robot.function import FunctionTarget
-from gb_pin.sim import snapshot
+from gb_pin.sim import health, snapshot
 from gb_pin.sim.dependency import require_mujoco
 from gb_pin.sim.equilibrium import static_posture
 from gb_pin.sim.mjcf import mjcf
@@ -148,10 +148,13 @@ class MujocoPlant(FunctionTarget):
             raise InvalidArgumentError(f"gravity must be True or False, got {gravity!r}")
         self.gravity = bool(gravity)
         self.timestep = check.positive_float("timestep", timestep)
-        if self.timestep > 0.05:
+        if not health.MIN_TIMESTEP <= self.timestep <= 0.05:
             raise InvalidArgumentError(
-                f"timestep must be at most 0.05 s (MuJoCo's default is 0.002), got {timestep!r}"
+                f"timestep must be in [{health.MIN_TIMESTEP:g}, 0.05] s (MuJoCo's default is 0.002), "
+                f"got {timestep!r}"
             )
+        health.hold_steps("period" if self.settling.tolerance is None else "settle", self.settling.time,
+                          self.timestep)  # fmt: skip
         self.seed = check.positive_int("seed", seed, 0, 2**63 - 1)
         self.tracker = Sensor(noise, loss, np.random.default_rng(self.seed))
         self.tracker.std(self.target.n_task)  # a per-axis noise of the wrong length is refused now
@@ -276,6 +279,7 @@ class MujocoPlant(FunctionTarget):
 
         Raises:
             InvalidArgumentError: a posture of the wrong shape or not finite.
+            SimulationError: the simulation went unstable (:func:`~gb_pin.sim.health.check_state`).
         """
         if np.ndim(q) == 2:
             arr = check.points("q", q, self.n_joints)
@@ -294,16 +298,26 @@ class MujocoPlant(FunctionTarget):
 
         Raises:
             InvalidArgumentError: postures of the wrong shape or not finite.
+            SimulationError: the arm went unstable, or the postures took more than
+                :data:`~gb_pin.sim.health.EVALUATION_STEPS` MuJoCo steps to come to rest.
         """
         single = np.ndim(q) == 1
         Q = check.points("q", q, self.n_joints, allow_single=True)
-        out = np.array([self._task(self.posture_at(c)) for c in Q])
+        budget = health.StepBudget(self._describe())  # one evaluation: all of Q together
+        out = np.array([self._task(self.posture_at(c, budget)) for c in Q])
         return out[0] if single else out
 
-    def posture_at(self, q: ArrayLike) -> NDArray[np.float64]:
-        """The joint positions (m,) at which the arm rests under the command ``q`` (m,) [rad]."""
+    def posture_at(self, q: ArrayLike, budget: health.StepBudget | None = None) -> NDArray[np.float64]:
+        """The joint positions (m,) at which the arm rests under the command ``q`` (m,) [rad].
+
+        Raises:
+            SimulationError: the arm had to be simulated and went unstable, or took longer than
+                ``budget`` (default :data:`~gb_pin.sim.health.EVALUATION_STEPS` MuJoCo steps).
+        """
         command = check.vector("q", q, self.n_joints)
-        return static_posture(self._mj, self.mj_model, self._scratch, self._dofs, command, self.servos)
+        budget = budget or health.StepBudget(self._describe())
+        mj, model, scratch = self._mj, self.mj_model, self._scratch
+        return static_posture(mj, model, scratch, self._dofs, command, self.servos, budget)
 
     @property
     def posture(self) -> NDArray[np.float64]:
@@ -326,6 +340,13 @@ class MujocoPlant(FunctionTarget):
         self._mj.mj_kinematics(self.mj_model, self._scratch)
         return np.array(self._scratch.site("frame").xpos)
 
+    def _describe(self) -> str:
+        """The settings an instability depends on, as ``kp=10, damping=0.5, ...`` (named in errors)."""
+        return (
+            f"kp={short(self.servos.kp)}, damping={short(self.servos.kv)}, "
+            f"armature={short(self.servos.armature)}, timestep={self.timestep:g}"
+        )
+
     def _task(self, posture: NDArray[np.float64]) -> NDArray[np.float64]:
         """The learner's task vector at joint positions ``posture`` (a fresh array)."""
         body_forward(np.ascontiguousarray(posture), self._body, self._x)
@@ -340,8 +361,10 @@ class MujocoPlant(FunctionTarget):
     def move(self, q: ArrayLike) -> None:
         """Command ``q`` (m,) and simulate by the settling rule, reading nothing (a camera reads after)."""
         self.mj_data.ctrl[:] = check.vector("q", q, self.n_joints)
+        before = health.warnings_seen(self._mj, self.mj_data)
         self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data, self._contacts)
         self.asks += 1
+        health.check_state(self._mj, self.mj_data, before, self._describe(), f"ask {self.asks}")
 
     def render(self) -> NDArray[np.uint8]:
         """The camera's picture of the arm now (H, W, 3) uint8 RGB, without noise.
@@ -390,28 +413,38 @@ class MujocoPlant(FunctionTarget):
     # -- checkpoints ---------------------------------------------------------------------------
     def robot_state(self) -> dict[str, NDArray[Any]]:
         """The arm's and the sensor's state as arrays (see :mod:`gb_pin.sim.snapshot`)."""
-        size = self._mj.mj_stateSize(self.mj_model, self._state_kind)
-        state = np.empty(size)
-        self._mj.mj_getState(self.mj_model, self.mj_data, state, self._state_kind)
         return {
             "counters": np.array([self.asks, self.steps], dtype=np.int64),
-            "mujoco": state,
+            "mujoco": self._state(),
             "sensor": snapshot.generator_words(self._readings.rng),
             "settings": self._settings.copy(),
         }
+
+    def _state(self) -> NDArray[np.float64]:
+        state = np.empty(self._mj.mj_stateSize(self.mj_model, self._state_kind))
+        self._mj.mj_getState(self.mj_model, self.mj_data, state, self._state_kind)
+        return state
 
     def set_robot_state(self, arrays: dict[str, NDArray[Any]]) -> None:
         """Continue from a state of :meth:`robot_state` (a checkpoint's), checked first.
 
         Raises:
-            InvalidArgumentError: arrays missing or malformed, or written by a plant of other settings.
+            InvalidArgumentError: arrays missing or malformed, written by a plant of other settings,
+                or a state no run of this plant could leave (:func:`~gb_pin.sim.health.check_restored`).
         """
         size = self._mj.mj_stateSize(self.mj_model, self._state_kind)
         checked = snapshot.unpack(arrays, size, self._settings)
+        asks, steps = (int(v) for v in checked["counters"])
+        saved = self._state()
         self._mj.mj_setState(self.mj_model, self.mj_data, checked["mujoco"], self._state_kind)
+        try:
+            health.check_restored(self.mj_data, self._dofs, steps, self.timestep, self.lower, self.upper)
+        except InvalidArgumentError:
+            self._mj.mj_setState(self.mj_model, self.mj_data, saved, self._state_kind)
+            raise
         self._mj.mj_forward(self.mj_model, self.mj_data)
         snapshot.set_generator(self._readings.rng, checked["sensor"])
-        self.asks, self.steps = (int(v) for v in checked["counters"])
+        self.asks, self.steps = asks, steps
 
     def __repr__(self) -> str:
         return (

@@ -23,6 +23,7 @@ import numpy as np
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.sim.health import MIN_TOLERANCE, bounded_time
 
 DEFAULT_SETTLE = 0.5
 """Longest hold of the default rule [s]."""
@@ -53,8 +54,10 @@ class Settling:
         """The rule from the plant's arguments: ``period``, or ``settle`` and ``tolerance``.
 
         Raises:
-            InvalidArgumentError: ``period`` together with ``settle`` or ``tolerance``, or a value
-                that is not a positive finite number.
+            InvalidArgumentError: ``period`` together with ``settle`` or ``tolerance``, a value
+                that is not a positive finite number, a hold beyond
+                :data:`~gb_pin.sim.health.MAX_HOLD` or a tolerance below
+                :data:`~gb_pin.sim.health.MIN_TOLERANCE`.
         """
         if period is not None:
             if settle is not None or tolerance is not None:
@@ -62,11 +65,16 @@ class Settling:
                     "give period= (a fixed hold per ask) or settle= / tolerance= (hold until at rest), "
                     f"not both: got period={period!r}, settle={settle!r}, tolerance={tolerance!r}"
                 )
-            return cls(check.positive_float("period", period), None)
-        return cls(
-            DEFAULT_SETTLE if settle is None else check.positive_float("settle", settle),
-            DEFAULT_TOLERANCE if tolerance is None else check.positive_float("tolerance", tolerance),
-        )
+            return cls(bounded_time("period", check.positive_float("period", period)), None)
+        if tolerance is not None:
+            tolerance = check.positive_float("tolerance", tolerance)
+            if tolerance < MIN_TOLERANCE:
+                raise InvalidArgumentError(
+                    f"tolerance must be at least {MIN_TOLERANCE:g} rad/s (a speed MuJoCo can resolve), "
+                    f"got {tolerance!r}"
+                )
+        longest = DEFAULT_SETTLE if settle is None else check.positive_float("settle", settle)
+        return cls(bounded_time("settle", longest), DEFAULT_TOLERANCE if tolerance is None else tolerance)
 
     def steps(self, timestep: float) -> tuple[int, int]:
         """(most steps of one hold, steps between checks) at ``timestep`` [s]."""
@@ -74,13 +82,17 @@ class Settling:
         every = max(1, round(CHECK_PERIOD / timestep))
         return most, (most if self.tolerance is None else min(every, most))
 
-    def hold(self, mujoco: Any, model: Any, data: Any, contacts: Any = None) -> int:
+    def hold(self, mujoco: Any, model: Any, data: Any, contacts: Any = None, limit: int | None = None) -> int:
         """Advance the simulation under the current command by this rule; returns the steps taken.
 
         ``contacts``: a list to which each step's contact count is added (``data.ncon``: the
-        steps then run one at a time); None: not counted.
+        steps then run one at a time); None: not counted. ``limit``: take at most that many steps
+        (a budget), whatever the rule says.
         """
         most, every = self.steps(float(model.opt.timestep))
+        if limit is not None:
+            most = max(1, min(most, limit))
+            every = min(every, most)
         if contacts is not None:
             return self._hold_counting(mujoco, model, data, contacts, most, every)
         if self.tolerance is None:

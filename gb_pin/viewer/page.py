@@ -12,6 +12,7 @@ import json
 import os
 from collections.abc import Iterable
 
+from gb_pin._names import printable
 from gb_pin.viewer.dependencies import viewer_assets
 
 # The static page may run inline scripts and styles and read data: images (meshcat's
@@ -26,14 +27,16 @@ def html_page(messages: Iterable[bytes], title: str = "gb_pin", overlay: str = "
 
     Args:
         messages: the scene's commands.
-        title: the page's title (escaped).
+        title: the page's title (HTML-escaped; non-printable characters such as direction overrides
+            written as escapes, e.g. U+202E as backslash-u-202e).
         overlay: HTML drawn over the view (the legend, :func:`gb_pin.viewer.legend.legend_html`:
             gb_pin's own markup with escaped text; static, no script).
     """
     with open(os.path.join(viewer_assets(), "main.min.js"), encoding="utf-8") as fh:
         script = fh.read().replace("</script", "<\\/script")
     commands = json.dumps([base64.b64encode(m).decode("ascii") for m in messages])
-    safe_title = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    # non-printable characters escaped (Unicode direction overrides would reorder the title shown)
+    safe_title = printable(title, 200).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
     return f"""<!DOCTYPE html>
 <html>
 <head>

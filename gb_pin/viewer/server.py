@@ -6,7 +6,9 @@ process. :class:`LocalServer` replaces it: it listens on 127.0.0.1 only, answers
 requests whose Host header names that address (no DNS rebinding), with bounded connections,
 timeouts and request sizes (:mod:`gb_pin.viewer.listener`), serves meshcat's
 bundled viewer (``meshcat/viewer/dist``, nothing from the network) and forwards
-commands to the connected browsers. It has the ``send(command)`` method of
+commands to the connected browsers, each through its own bounded queue
+(:class:`~gb_pin.viewer.outbox.Outbox`: a browser that stops reading gets frames dropped,
+then is disconnected; the others are served as before). It has the ``send(command)`` method of
 ``meshcat.visualizer.ViewerWindow``, so ``meshcat.Visualizer(window=...)`` (and with
 it pinocchio's ``MeshcatVisualizer``) draws through it unchanged.
 """
@@ -18,6 +20,7 @@ import contextlib
 import logging
 import socket
 import threading
+import time
 import urllib.parse
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
@@ -35,6 +38,7 @@ from gb_pin.viewer.cache import SceneCache
 from gb_pin.viewer.commands import Command, Encoded, encode, property_of
 from gb_pin.viewer.dependencies import viewer_assets
 from gb_pin.viewer.listener import Listener, Notes, http_server, quiet_loop_errors
+from gb_pin.viewer.outbox import STALL_SECONDS, Outbox
 
 LOOPBACK = "127.0.0.1"
 DEFAULT_PORT = 7000
@@ -156,7 +160,8 @@ class LocalServer:
         self.allowed_hosts = frozenset({f"{LOOPBACK}:{self.port}", f"localhost:{self.port}"})
         self.scene = SceneCache()
         self._lock = threading.Lock()
-        self._clients: dict[_SocketHandler, Any] = {}  # client -> its last write future
+        self._clients: dict[_SocketHandler, Outbox] = {}  # client -> its bounded send queue
+        self.stall_seconds = STALL_SECONDS
         self._connected = threading.Event()
         self._closed_flag = False
         self._notes = Notes(_log)
@@ -185,6 +190,7 @@ class LocalServer:
             loop.close()
             return
         self._ready.set_result(ioloop)
+        tornado.ioloop.PeriodicCallback(self._drop_stalled, 1000.0).start()
         try:
             ioloop.start()
         finally:
@@ -212,34 +218,60 @@ class LocalServer:
         return http
 
     def _opened(self, client: _SocketHandler) -> None:
+        box = Outbox(lambda data: self._write(client, data), self._scene_messages)
         with self._lock:
-            backlog = self.scene.messages()
-            self._clients[client] = None
-        for data in backlog:
-            self._write(client, data)
+            self._clients[client] = box
+        box.put(self._scene_messages())
         self._connected.set()
+
+    def _scene_messages(self) -> list[bytes]:
+        with self._lock:
+            return self.scene.messages()
 
     def _closed(self, client: _SocketHandler) -> None:
         with self._lock:
-            self._clients.pop(client, None)
+            box = self._clients.pop(client, None)
+        if box is not None:
+            box.close()
 
-    def _write(self, client: _SocketHandler, data: bytes) -> None:
+    def _write(self, client: _SocketHandler, data: bytes) -> Any:
         try:
-            self._clients[client] = client.write_message(data, binary=True)
-        except (tornado.websocket.WebSocketClosedError, KeyError):
-            self._clients.pop(client, None)
+            return client.write_message(data, binary=True)
+        except tornado.websocket.WebSocketClosedError:
+            self._closed(client)
+            return None
 
     def _broadcast(self, messages: list[bytes]) -> None:
-        for client in list(self._clients):
-            for data in messages:
-                self._write(client, data)
+        for box in list(self._clients.values()):
+            box.put(messages)
+
+    def _drop_stalled(self) -> None:
+        """Disconnect browsers that have not taken a batch for :attr:`stall_seconds`."""
+        now = time.monotonic()
+        for client, box in list(self._clients.items()):
+            if box.stalled(now, self.stall_seconds):
+                self._notes.warn(
+                    "stalled",
+                    f"viewer: a browser read nothing for {self.stall_seconds:g} s; disconnected it",
+                )
+                self._closed(client)
+                stream = getattr(client.ws_connection, "stream", None)
+                if stream is not None:
+                    stream.close()  # frees tornado's buffer at once; no close handshake to wait on
+                else:
+                    client.close()
+
+    def held_bytes(self) -> int:
+        """Bytes of frames the server holds for its browsers now (bounded per browser)."""
+        return sum(box.held_bytes() for box in list(self._clients.values()))
 
     async def _shutdown(self) -> None:
-        pending = [f for f in self._clients.values() if f is not None]
-        if pending:
-            # Let the last frames reach the browsers (they keep showing them after we close).
-            with contextlib.suppress(Exception):
-                await asyncio.wait_for(asyncio.gather(*pending, return_exceptions=True), timeout=2.0)
+        # Let the last frames reach the browsers (they keep showing them after we close).
+        deadline = time.monotonic() + 2.0
+        while time.monotonic() < deadline and any(
+            box.pending or box.busy() for box in self._clients.values()
+        ):
+            await asyncio.sleep(0.02)
         for client in list(self._clients):
             client.close()
         self._listener.close()

@@ -1,0 +1,34 @@
+"""Onboarding within a time budget proportional to the chain, then one line saying how to skip it.
+
+Before (main 995bb8d) a 200-joint URDF onboarded in about 9 minutes and a 998-joint one ran on
+past 5 minutes; now the search stops after 30 s + 0.1 s a joint (199 joints: an error at 63 s).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import gb_pin
+from gb_pin.exceptions import OnboardingBudgetError
+from gb_pin.robot import onboarding
+
+URDF = Path(__file__).resolve().parent / "data" / "small_arm.urdf"
+
+
+def test_a_search_past_its_budget_stops_with_one_line(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(onboarding, "BUDGET_SECONDS", 0.0)
+    monkeypatch.setattr(onboarding, "BUDGET_PER_JOINT", 0.0)
+    with pytest.raises(OnboardingBudgetError, match=r"took more than its 0 s.*give a home") as info:
+        gb_pin.KinematicTarget.from_urdf(URDF, "tool")
+    assert "\n" not in str(info.value)
+    # with a home given, the goal grid's own search is bounded too (not turned into a warning)
+    with pytest.raises(OnboardingBudgetError):
+        gb_pin.KinematicTarget.from_urdf(URDF, "tool", home=[0.1, 0.2, 0.05, 0.3])
+
+
+def test_the_budget_grows_with_the_chain() -> None:
+    assert onboarding.Budget(200).seconds == pytest.approx(
+        onboarding.BUDGET_SECONDS + 200 * onboarding.BUDGET_PER_JOINT
+    )
