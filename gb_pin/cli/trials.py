@@ -7,7 +7,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.goal_options import add_goal_options, goal_values
+from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
     add_quiet,
@@ -69,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
     checks.outputs(args, json="--json", checkpoint="--checkpoint")
     goal_args = goal_values(args, as_lists=True)
     robot = robot_argument(args, "planar5", goal_args.get("targets"))  # each worker builds it again
+    check_widths(args, goal_args, robot)
     for line in onboarding_lines(robot):
         print(line, flush=True)
     start = time.perf_counter()

@@ -45,6 +45,9 @@ class BabbleResult:
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
             (the test set, ``eval_targets=``); None when they are the same set.
         missing: learning steps whose reading was missing (a sensor's losses, or ``tell(None)``).
+        home_error: E_0 of the constant home estimate when this run continued another one
+            (``babble(init=...)``, ``gb-pin babble --continue``), kept from the first run of the chain;
+            None for a run from scratch, whose history starts with it (see :attr:`initial_error`).
     """
 
     target: KinematicTarget
@@ -62,10 +65,11 @@ class BabbleResult:
     goals: str | None = None
     goal_targets: NDArray[np.float64] | None = field(default=None, repr=False)
     missing: int = 0
+    home_error: float | None = None
 
     def __repr__(self) -> str:
         """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
-        e0 = float(self.history.error[0])
+        e0 = self.initial_error
         share = f", {self.error / e0:.1%} of E_0" if e0 > 0 else ""
         recorded = "None" if self.recording is None else f"<{len(self.recording.step)} steps>"
         goal_set = "" if self.goal_targets is None else f", goal_targets=<{_shape(self.goal_targets)} array>"
@@ -93,6 +97,18 @@ class BabbleResult:
     def error(self) -> float:
         """Final E^X [m]."""
         return float(self.history.error[-1])
+
+    @property
+    def initial_error(self) -> float:
+        """E_0 [m]: E^X of the constant home estimate q_home, the paper's reference for E^X.
+
+        A run from scratch measured it at movement 0; a continued run (``init=``) starts from the
+        previous run's estimate, so its E_0 is the first run's (:attr:`home_error`), not its own
+        movement 0. NaN when neither was recorded.
+        """
+        if self.home_error is not None:
+            return float(self.home_error)
+        return self.history.initial_error
 
     @property
     def home_distance(self) -> float:
@@ -143,6 +159,18 @@ class BabbleResult:
             GbPinError: matplotlib is not installed (``pip install 'gb_pin[plots]'``).
         """
         return plot_result(self, path, ax)
+
+    def export_inverse(self, path: str | os.PathLike[str]) -> str:
+        """Write the learned inverse g to a plain ``.npz`` for use without gb_pin or numba.
+
+        ``examples/numpy_inverse.py`` reads it in about 30 lines of numpy (:mod:`gb_pin.runs.export`).
+
+        Returns:
+            The path written.
+        """
+        from gb_pin.runs.export import export_inverse
+
+        return export_inverse(self, path)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:
