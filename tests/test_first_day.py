@@ -202,3 +202,13 @@ def test_cli_ik_takes_a_pose(tmp_path: Path, capsys: Any) -> None:
     capsys.readouterr()
     assert main(["ik", str(run), "--pose", *(f"{v:.12f}" for v in pose), "--timeout", "0.05"]) == 0
     assert "1/1 solved" in capsys.readouterr().out
+
+
+def test_robots_md_lists_every_preset() -> None:
+    """docs/ROBOTS.md's `gb-pin robots` listing shows every preset, as the command prints it."""
+    from gb_pin.robot.presets import format_presets
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "ROBOTS.md").read_text()
+    listing = text.split("`gb-pin robots` prints:\n\n```\n", 1)[1].split("```", 1)[0]
+    for line in format_presets().splitlines():
+        assert line in listing.splitlines(), f"docs/ROBOTS.md's listing lacks: {line}"
