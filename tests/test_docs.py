@@ -151,6 +151,7 @@ def _stand_ins(folder: Path) -> None:
     (folder / "points.csv").write_text("0.45,0.3,1.1\n0.4,0.35,1.0\n")
     (folder / "poses.csv").write_text("0.45,0.3,1.1\n")
     (folder / "examples").symlink_to(ROOT / "examples")
+    (folder / "docs" / "figures").mkdir(parents=True)  # where the reproduce commands write
 
 
 BLOCKS = blocks()

@@ -8,7 +8,7 @@ tool usually is) marked, so that a robot of 121 links shows its arm's tool frame
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -67,7 +67,7 @@ def format_frames(model: pin.Model, name: str, moved: Iterable[str] = (), frame:
         "",
         "joints (--joints names them; * moved by the preset):",
     ]
-    rows = [("", "name", "type", "lower", "upper", "parent joint")]
+    rows: list[tuple[str, ...]] = [("", "name", "type", "lower", "upper", "parent joint")]
     for j in range(1, model.njoints):
         jn = model.names[j]
         lo, hi = _limits(model, j)
@@ -76,7 +76,7 @@ def format_frames(model: pin.Model, name: str, moved: Iterable[str] = (), frame:
         )
     lines += _table(rows)
     lines += ["", "frames (--frame names them; > ends a chain, where a tool usually is; * the preset's):"]
-    rows = [("", "name", "type", "on joint")]
+    rows = [("", "name", "type", "on joint")]  # a new table
     for f in model.frames:
         if f.name == "universe":
             continue
@@ -85,7 +85,8 @@ def format_frames(model: pin.Model, name: str, moved: Iterable[str] = (), frame:
             if f.name == frame
             else (">" if int(f.parentJoint) in ends and f.type == pin.FrameType.BODY else "")
         )
-        rows.append((mark, f.name, str(f.type).rsplit(".", 1)[-1].lower(), model.names[int(f.parentJoint)]))
+        kind = str(f.type).rsplit(".", 1)[-1].lower()
+        rows.append((mark, str(f.name), kind, str(model.names[int(f.parentJoint)])))
     lines += _table(rows)
     return "\n".join(lines)
 
@@ -102,6 +103,6 @@ def _limits(model: pin.Model, joint: int) -> tuple[str, str]:
     return f"{lo:.4g}", f"{hi:.4g}"
 
 
-def _table(rows: list[tuple[str, ...]]) -> list[str]:
+def _table(rows: Sequence[tuple[str, ...]]) -> list[str]:
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return ["  " + "  ".join(c.ljust(widths[i]) for i, c in enumerate(r)).rstrip() for r in rows]
