@@ -128,6 +128,17 @@ def fallback_paths(path: str | os.PathLike[str]) -> Iterator[str]:
                 break
 
 
+def free_name(path: str | os.PathLike[str]) -> str:
+    """``path`` if nothing is there, else the first free ``name.1.npz``, ``name.2.npz``, ... beside it."""
+    text = os.fspath(path)
+    stem, ext = os.path.splitext(text)
+    i = 0
+    while os.path.lexists(text):
+        i += 1
+        text = f"{stem}.{i}{ext}"
+    return text
+
+
 def fallback_path(path: str | os.PathLike[str]) -> str:
     """The first of :func:`fallback_paths` (else a new directory in the temp dir)."""
     for candidate in fallback_paths(path):

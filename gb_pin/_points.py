@@ -65,8 +65,9 @@ def read_points(
         except OSError as exc:
             raise InvalidArgumentError(f"{label}: cannot read it ({exc.strerror or exc})") from exc
     if arr.ndim != 2 or not 1 <= arr.shape[0] <= MAX_POINTS or arr.shape[1] < 1:
+        got = "no points" if arr.size == 0 else f"an array of shape {arr.shape}"
         raise InvalidArgumentError(
-            f"{label}: expected (N, n) numbers with 1 <= N <= {MAX_POINTS}, got {arr.dtype} {arr.shape}"
+            f"{label}: expected (N, n) numbers, one point a row, with 1 <= N <= {MAX_POINTS}; got {got}"
         )
     if axes is not None and arr.shape[1] != len(axes):
         raise InvalidArgumentError(
@@ -126,7 +127,10 @@ def _csv(fh: IO[bytes], name: str, label: str, axes: str | None) -> NDArray[np.f
             values.append(finite_number(f, f"{name}:{number}"))
         rows += 1
     if rows == 0:
-        return np.zeros((0, width or 0))
+        raise InvalidArgumentError(
+            f"{label}: no points (the file is empty, or holds only blank lines, # comments or a header); "
+            "expected one point per line, its coordinates separated by commas, e.g. 0.5,0.1"
+        )
     return np.frombuffer(values, dtype=np.float64).reshape(rows, -1)
 
 

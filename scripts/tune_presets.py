@@ -1,7 +1,12 @@
 """How the presets' homes and learner defaults were chosen: the measurements behind docs/ROBOTS.md.
 
-    python scripts/tune_presets.py                     # every spatial preset (about 3 minutes on 2 cores)
+    python scripts/tune_presets.py --out tune.md       # every spatial preset
     python scripts/tune_presets.py --robots romeo_right_arm --seeds 10
+
+Each preset's rows are printed as soon as they are measured, and ``--out`` rewrites the three tables
+after every preset, so an interrupted run keeps what it measured; a preset that fails is reported
+and skipped. Stacked tasks (pose, pointing, two hands) learn their own task vector; their
+"relative" coordinates row is left out (only position axes can be shifted).
 
 For each spatial preset it prints two markdown tables:
 
@@ -39,8 +44,9 @@ def reference_target(name: str) -> KinematicTarget:
     """The preset's robot, frame and joints with the model's reference posture as home."""
     preset, _ = get_preset(name)
     return KinematicTarget.from_example_robot_data(
-        preset.robot, preset.frame, list(preset.joints), label=name, onboard=False
-    )
+        preset.robot, preset.frame, list(preset.joints), None, preset.axes, label=name, onboard=False,
+        **preset.task,
+    )  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True)
@@ -107,71 +113,107 @@ def measure(
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    """Print the two tables for the chosen presets."""
+    """Print the three tables for the chosen presets, row by row as they are measured."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     spatial = [p.name for p in gb_pin.robots() if p.source == "example-robot-data"]
     parser.add_argument("--robots", default=",".join(spatial), help="comma-separated presets")
     parser.add_argument("--seeds", type=int, default=5, help="seeds per measurement (default 5)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    parser.add_argument(
+        "--out", default=None, help="rewrite the tables in this markdown file after each preset"
+    )
     args = parser.parse_args(argv)
     names = [n.strip() for n in args.robots.split(",") if n.strip()]
+    if args.out is not None:
+        from gb_pin._files import check_writable
 
-    homes = [
-        "| preset | home | hand position [m] | auto half-width [m] | E_0 [m] | E^X/E_0 1000 "
-        "| E^X/E_0 3000 | worst 3000 | E^X 3000 [m] |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    defaults = [
-        "| preset | learner parameters | E_0 [m] | E^X/E_0 1000 | E^X/E_0 3000 | worst 3000 | prototypes |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    coordinates = [
-        "| preset | task coordinates | E_0 [m] | E^X/E_0 1000 | E^X/E_0 3000 | worst 3000 | prototypes |",
-        "|---|---|---|---|---|---|---|",
-    ]
+        check_writable(args.out, "--out")  # before any work
+
+    tables = {
+        "homes": [
+            "| preset | home | hand position [m] | auto half-width [m] | E_0 | E^X/E_0 1000 "
+            "| E^X/E_0 3000 | worst 3000 | E^X 3000 |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ],
+        "defaults": [
+            "| preset | learner parameters | E_0 | E^X/E_0 1000 | E^X/E_0 3000 | worst 3000 | prototypes |",
+            "|---|---|---|---|---|---|---|",
+        ],
+        "coordinates": [
+            "| preset | task coordinates | E_0 | E^X/E_0 1000 | E^X/E_0 3000 | worst 3000 | prototypes |",
+            "|---|---|---|---|---|---|---|",
+        ],
+    }
+
+    def row(table: str, line: str) -> None:
+        tables[table].append(line)
+        print(f"{table}: {line}", flush=True)
+
+    failed = []
     with ProcessPoolExecutor(args.workers) as pool:
         for name in names:
-            preset, _ = get_preset(name)
-            mine = gb_pin.load_robot(name)
-            ref = reference_target(name)
-            for label, target, is_ref in (("reference", ref, True), ("preset", mine, False)):
-                try:
-                    half = auto_grid(target).half_width
-                except gb_pin.InvalidArgumentError:
-                    half = 0.0
-                hand = np.round(target.home_position, 3).tolist()
-                mode = "reference" if is_ref else "preset"
-                e0, r1, r3, worst, _ = measure(pool, name, mode, dict(preset.learner), args.seeds)
-                cells = f"{e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {r3 * e0:.4f}"
-                homes.append(f"| {name} | {label} | {hand} | {half:.3f} | {cells} |")
-            radius = float(preset.learner.get("radius", 0.1))
-            sigma = float(preset.learner.get("sigma", default_sigma(mine.n_joints)))
-            variants: list[tuple[str, dict[str, Any]]] = [
-                ("paper: radius 0.1, sigma Eq. 12", {"radius": 0.1, "sigma": None}),
-                (f"preset: radius {radius:g}, sigma {sigma:.3g}", {}),
-                (f"radius {radius / 2:g}", {"radius": radius / 2}),
-                (f"radius {radius * 2:g}", {"radius": radius * 2}),
-                (f"sigma {sigma / 2:.3g}", {"sigma": sigma / 2}),
-                (f"sigma {sigma * 2:.3g}", {"sigma": sigma * 2}),
-            ]
-            for label, change in variants:
-                params = {**preset.learner, **change}
-                params = {k: v for k, v in params.items() if v is not None}
-                e0, r1, r3, worst, k = measure(pool, name, "preset", params, args.seeds)
-                defaults.append(
-                    f"| {name} | {label} | {e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {k:.0f} |"
-                )
-            for label, mode in (("world", "preset"), ("relative to the home position", "relative")):
-                e0, r1, r3, worst, k = measure(pool, name, mode, dict(preset.learner), args.seeds)
-                coordinates.append(
-                    f"| {name} | {label} | {e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {k:.0f} |"
-                )
-            print(f"{name} done", flush=True)
-    print("\n".join(homes))
+            try:
+                _tune(pool, name, args.seeds, row)
+            except Exception as exc:  # one preset's failure must not lose the others' rows
+                failed.append(name)
+                print(f"{name}: failed ({type(exc).__name__}: {exc}); going on", flush=True)
+            else:
+                print(f"{name} done", flush=True)
+            if args.out is not None:
+                _write(args.out, tables)
     print()
-    print("\n".join(defaults))
-    print()
-    print("\n".join(coordinates))
+    print("\n\n".join("\n".join(t) for t in tables.values()))
+    if failed:
+        print(f"\nfailed: {', '.join(failed)}")
+    print("E_0 and E^X are in the task vector's units: [m] for positions, a stacked task's rotations scaled.")
+
+
+def _write(path: str, tables: dict[str, list[str]]) -> None:
+    """The tables so far, written atomically."""
+    import os
+
+    tmp = f"{path}.tmp"
+    with open(tmp, "w") as fh:
+        fh.write("\n\n".join("\n".join(t) for t in tables.values()) + "\n")
+    os.replace(tmp, path)
+
+
+def _tune(pool: ProcessPoolExecutor, name: str, seeds: int, row: Any) -> None:
+    """One preset's rows of the three tables."""
+    preset, _ = get_preset(name)
+    mine = gb_pin.load_robot(name)
+    ref = reference_target(name)
+    for label, target, is_ref in (("reference", ref, True), ("preset", mine, False)):
+        try:
+            half = auto_grid(target).half_width
+        except (gb_pin.InvalidArgumentError, ValueError):
+            half = float("nan")
+        hand = np.round(target.home_position, 3).tolist()
+        mode = "reference" if is_ref else "preset"
+        e0, r1, r3, worst, _ = measure(pool, name, mode, dict(preset.learner), seeds)
+        cells = f"{e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {r3 * e0:.4f}"
+        row("homes", f"| {name} | {label} | {hand} | {half:.3f} | {cells} |")
+    radius = float(preset.learner.get("radius", 0.1))
+    sigma = float(preset.learner.get("sigma", default_sigma(mine.n_joints)))
+    variants: list[tuple[str, dict[str, Any]]] = [
+        ("paper: radius 0.1, sigma Eq. 12", {"radius": 0.1, "sigma": None}),
+        (f"preset: radius {radius:g}, sigma {sigma:.3g}", {}),
+        (f"radius {radius / 2:g}", {"radius": radius / 2}),
+        (f"radius {radius * 2:g}", {"radius": radius * 2}),
+        (f"sigma {sigma / 2:.3g}", {"sigma": sigma / 2}),
+        (f"sigma {sigma * 2:.3g}", {"sigma": sigma * 2}),
+    ]
+    for label, change in variants:
+        params = {**preset.learner, **change}
+        params = {k: v for k, v in params.items() if v is not None}
+        e0, r1, r3, worst, k = measure(pool, name, "preset", params, seeds)
+        row("defaults", f"| {name} | {label} | {e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {k:.0f} |")
+    modes = [("world", "preset")]
+    if mine.task is None:  # a stacked task's rotations cannot be shifted
+        modes.append(("relative to the home position", "relative"))
+    for label, mode in modes:
+        e0, r1, r3, worst, k = measure(pool, name, mode, dict(preset.learner), seeds)
+        row("coordinates", f"| {name} | {label} | {e0:.3f} | {r1:.3f} | {r3:.3f} | {worst:.3f} | {k:.0f} |")
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ from gb_pin.viewer.scene import Scene
 from gb_pin.viewer.style import CAMERA_FOV, LINK_COLOR
 
 WIDTH, HEIGHT = 800, 600
+pytestmark = pytest.mark.slow  # chromium starts and renders: outside the quick subset (pytest -m "not slow")
 
 
 def _chromium() -> str:

@@ -229,7 +229,7 @@ def test_program_exit_keeps_output_files_and_status(tmp_path: Path) -> None:
         timeout=300,
     )
     assert bad.returncode == 2 and bad.stderr.startswith("gb-pin: error: unknown robot")
-    assert main(argv[:-4]) == 0  # in-process: returns
+    assert main([*argv[:-4], "--overwrite"]) == 0  # in-process: returns (run.npz exists: replaced on purpose)
 
 
 def test_resume_reports_this_sessions_steps(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]

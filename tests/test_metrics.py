@@ -130,3 +130,25 @@ def test_speed_rejects_mismatched_lengths() -> None:
     """errors must have as many columns as there are recorded movement counts."""
     with pytest.raises(InvalidArgumentError):
         speed([0, 10, 20], [[1.0, 0.05, 0.01, 0.0]], 1.0, 0.1)
+
+
+def test_reach_median_equals_the_median_of_np_sort_nans_last() -> None:
+    """reach_median's insertion sort gives np.sort's median bit for bit (NaNs last, ties, any count)."""
+    from gb_pin.learn.metrics import reach_median
+
+    rng = np.random.default_rng(0)
+    for t in range(2000):
+        width = int(rng.integers(1, 60))
+        ring = rng.exponential(size=width)
+        if t % 3 == 0:
+            ring[rng.integers(0, width, size=rng.integers(0, 3))] = np.nan
+        if t % 5 == 0:
+            ring = np.round(ring, 1)  # ties
+        count = int(rng.integers(0, 80))
+        k = min(count, width)
+        values = np.sort(ring[:k])
+        expected = (
+            np.nan if k == 0 else values[k // 2] if k % 2 else 0.5 * (values[k // 2 - 1] + values[k // 2])
+        )
+        got = reach_median(ring, count)
+        assert (np.isnan(expected) and np.isnan(got)) or got == expected

@@ -651,17 +651,32 @@ def test_cli_errors_exit_2(argv: list[str], needle: str, tmp_path: Any, capsys: 
 
 
 def test_cli_live_replay_serves_animation_until_ctrl_c(run: gb_pin.BabbleResult, tmp_path: Any) -> None:
-    """`gb-pin replay FILE` prints a 127.0.0.1 URL, sends the animation to a browser, exits 0 on Ctrl-C."""
+    """`gb-pin replay FILE` prints a 127.0.0.1 URL, sends the animation to a browser, exits 0 on Ctrl-C.
+
+    Robust under load: the URL is awaited up to 120 s (not a blocking readline), Ctrl-C is sent with
+    SIGINT ignored by the parent (as in a background job: the command restores its handler), and the
+    process is killed in any case, so that no server is ever left on 127.0.0.1.
+    """
+    import selectors
+
     path = tmp_path / "run.npz"
     run.save(str(path))
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "gb_pin.cli", "replay", str(path), "--speed", "3"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # inherited by the child, as from `cmd &`
+    try:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "gb_pin.cli", "replay", str(path), "--speed", "3"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    code = None
     try:
         assert proc.stdout is not None
+        selector = selectors.DefaultSelector()
+        selector.register(proc.stdout, selectors.EVENT_READ)
+        assert selector.select(timeout=120), "no URL printed within 120 s"
         line = proc.stdout.readline()
         match = re.search(r"(http://127\.0\.0\.1:\d+/static/)", line)
         assert match, line
@@ -669,9 +684,12 @@ def test_cli_live_replay_serves_animation_until_ctrl_c(run: gb_pin.BabbleResult,
         messages = client.stop(settle=1.0)
         anims = [m for m in messages if m["type"] == "set_animation"]
         assert anims and anims[0]["animations"]
-    finally:
         proc.send_signal(signal.SIGINT)
-        code = proc.wait(timeout=20)
+        code = proc.wait(timeout=60)
+    finally:
+        if proc.poll() is None:  # never leave a server behind
+            proc.kill()
+            proc.wait(timeout=60)
     assert code == 0, proc.stderr.read() if proc.stderr else ""
 
 

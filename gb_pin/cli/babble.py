@@ -8,15 +8,16 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import threading
 import time
 from typing import TYPE_CHECKING, Any
 
 import gb_pin.cli.body_options as body_options
-from gb_pin.cli.arm import add_arm_options
 from gb_pin.cli import camera_options
-from gb_pin.cli.goal_options import add_goal_options, goal_values
+from gb_pin.cli.arm import add_arm_options
+from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
     add_quiet,
@@ -80,7 +81,17 @@ def _add_options(b: argparse.ArgumentParser) -> None:
     add_goal_options(b)
     body_options.add_body_options(b)
     add_arm_options(b)
-    b.add_argument("--out", default=None, help="save the result to this .npz file")
+    b.add_argument(
+        "--out",
+        default=None,
+        help="save the result to this .npz file (an existing one only with --overwrite)",
+    )
+    b.add_argument(
+        "--overwrite",
+        "--force",
+        action="store_true",
+        help="let --out replace an existing file (without it, the run refuses before it starts)",
+    )
     _add_checkpoint_options(b)
     _add_record_options(b)
     _add_view_options(b)
@@ -166,6 +177,7 @@ def run(args: argparse.Namespace) -> int:
     if init is None and not args.resume:
         given_targets = goal_args.get("targets")  # a workspace region is no model's goal set: onboarding runs
         robot = robot_argument(args, targets=None if isinstance(given_targets, str) else given_targets)
+        check_widths(args, goal_args, robot)  # a point file of the wrong width, named
     for line in onboarding_lines(robot):
         print(line, flush=True)
     if not args.resume:
@@ -204,10 +216,14 @@ def run(args: argparse.Namespace) -> int:
     if getattr(args, "until_error", None) is not None and state is not None and state.reached:
         print(f"stopped          E^X <= {args.until_error:g} m at movement {result.movements}")
     if args.out is not None:
-        from gb_pin._files import write_or_fallback
+        from gb_pin._files import free_name, write_or_fallback
 
-        where = write_or_fallback(args.out, result.save)  # a failed write never loses the result
-        if where != args.out:
+        out = args.out
+        if not args.overwrite and os.path.lexists(out):  # written by another run meanwhile: keep both
+            out = free_name(out)
+            print(f"gb-pin: warning: {args.out} appeared during the run; saving to {out}", file=sys.stderr)
+        where = write_or_fallback(out, result.save)  # a failed write never loses the result
+        if where != out:
             print(f"gb-pin: warning: could not write {args.out}; saved to {where} instead", file=sys.stderr)
         print(f"saved            {where}")
     args.quick_exit = viewer is None  # everything is written and closed (gb_pin.cli.run)
@@ -221,9 +237,14 @@ def _read_resume(args: argparse.Namespace) -> tuple[int, int, float]:
     from gb_pin.runs.checkpoint import read_checkpoint
 
     state, info = read_checkpoint(args.resume)
+    if state.chain is None:  # written by a session (ask/tell): no compiled kinematics to babble on
+        raise InvalidArgumentError(
+            f"{args.resume}: a session's checkpoint (a robot stepped by ask/tell) resumes from Python: "
+            "gb_pin.resume_session(path, robot=...)"
+        )
     if info.robot is None and (info.source is None or info.source["kind"] == "module"):
         raise InvalidArgumentError(
-            f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume)"
+            f"{args.resume}: a run of a custom robot resumes from Python (gb_pin.resume(path, robot=...))"
         )
     args.robot = info.robot or info.target_name  # a URDF / erd model's run: its name, for the summary
     args.movements, args.seed = info.movements, info.seed
@@ -344,6 +365,21 @@ def _warmup(warmup: Any, quiet: bool, after: float = 1.0) -> float:
         note.cancel()
 
 
+def _task_words(task: Any) -> str:
+    """A stacked task in words: ``position xyz + orientation (s 0.1 m/rad)``."""
+    words = []
+    for spec in task:
+        kind = type(spec).__name__.lower()
+        if kind == "position":
+            words.append(f"position {spec.axes}")
+        elif kind == "pointing":
+            axis = ",".join(f"{v + 0.0:g}" for v in spec.axis)  # + 0.0: no "-0"
+            words.append(f"pointing of axis ({axis}) (s {spec.scale:g} m/rad)")
+        else:
+            words.append(f"{kind} (s {spec.scale:g} m/rad)")
+    return " + ".join(words)
+
+
 def _print_summary(
     args: argparse.Namespace,
     result: BabbleResult,
@@ -359,12 +395,20 @@ def _print_summary(
     from gb_pin._names import printable
     from gb_pin.learn.history import versus_initial
 
-    e0 = versus_initial(result.error, result.history.initial_error)
-    axes = getattr(result.target, "axes", None) or f"{result.target.n_task} dimensions"
-    print(f"robot            {printable(args.robot)} ({result.target.n_joints} joints, task axes {axes})")
+    task = getattr(result.target, "task", None)
+    if task is not None:  # a stacked task: x holds positions [m] and scaled rotations (docs/TASKS.md)
+        what = f"task {_task_words(task)}: {result.target.n_task} values"
+        unit = " (task units: m, rotations as s x rad)"
+    else:
+        what = f"task axes {getattr(result.target, 'axes', None) or f'{result.target.n_task} dimensions'}"
+        unit = " m"
+    e0 = versus_initial(
+        result.error, result.initial_error, unit if task is None else ""
+    )  # --continue: home's
+    print(f"robot            {printable(args.robot)} ({result.target.n_joints} joints, {what})")
     seed = "continued" if args.continue_from else args.seed
     print(f"movements        {result.movements} ({result.steps} steps), seed {seed}")
-    print(f"E^X              {result.error:.5f} m   ({e0})")
+    print(f"E^X              {result.error:.5f}{unit}   ({e0})")
     if getattr(getattr(result.target, "chain", None), "components", None) is not None:  # docs/TASKS.md
         from gb_pin.learn.component_metrics import task_errors
 

@@ -27,7 +27,7 @@ def _add_options(s: argparse.ArgumentParser) -> None:
         help="comma-separated robots (default planar5,20,50; --ik: all presets): presets, MODULE:NAME, "
         "or a URDF file or erd:NAME with --frame (and the other model options)",
     )
-    add_model_options(s)
+    add_model_options(s, task=False)  # --task is the IK protocol's
     s.add_argument("--movements", type=int, default=None, help="movements per run (default 2000; --ik 3000)")
     s.add_argument("--repeat", type=int, default=3, help="runs per robot, best is reported (default 3)")
     s.add_argument(

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from typing import Any
 
 from gb_pin import _validation as check
@@ -23,6 +24,19 @@ def outputs(args: argparse.Namespace, **options: str) -> None:
         value = getattr(args, attribute, None)
         if value is not None:
             check_writable(value, option)
+
+
+def no_clobber(path: Any, option: str, overwrite: bool) -> None:
+    """Refuse an existing output file unless ``--overwrite`` was given: two runs never replace each other.
+
+    Raises:
+        InvalidArgumentError: one line naming the file and the option that allows replacing it.
+    """
+    if path is not None and not overwrite and os.path.lexists(path):
+        raise InvalidArgumentError(
+            f"{option} {path}: the file exists; give --overwrite (or --force) to replace it, "
+            f"or another {option}"
+        )
 
 
 def finite(option: str, value: Any, minimum: float = 0.0, strict: bool = False) -> None:
@@ -78,6 +92,7 @@ def babble(args: argparse.Namespace) -> None:
     finite("--view-wait", args.view_wait)
     finite("--view-pace", args.view_pace, strict=True)
     outputs(args, out="--out", checkpoint="--checkpoint")
+    no_clobber(args.out, "--out", getattr(args, "overwrite", False))
 
 
 def directory(path: Any, option: str) -> None:

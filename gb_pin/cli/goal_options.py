@@ -73,3 +73,40 @@ def goal_values(args: argparse.Namespace, *, as_lists: bool = False) -> dict[str
             raise InvalidArgumentError(f"--until-error must be a level > 0 [m], got {until!r}")
         out["until_error"] = until
     return out
+
+
+def check_widths(args: argparse.Namespace, goal_args: dict[str, Any], robot: Any) -> None:
+    """Raise unless the points of ``--targets`` / ``--eval-targets`` have the robot's task dimension.
+
+    Checked here, where the file and option are known (the run itself would only say "targets").
+
+    Raises:
+        InvalidArgumentError: naming the option, the file, its column count and the robot's.
+    """
+    given = [
+        (o, k) for o, k in (("--targets", "targets"), ("--eval-targets", "eval_targets")) if k in goal_args
+    ]
+    if not given or robot is None:
+        return
+    n_task = getattr(robot, "n_task", None)
+    if n_task is None and isinstance(robot, str):
+        from gb_pin.exceptions import GbPinError
+        from gb_pin.robot.presets import load_robot
+
+        try:
+            n_task = load_robot(robot).n_task
+        except GbPinError:  # not a preset's name (a plant's spec): the run checks it
+            return
+    if n_task is None:
+        return
+    for option, key in given:
+        if isinstance(goal_args[key], str):  # a workspace region: built on the robot itself
+            continue
+        width = np.asarray(goal_args[key]).shape[1]
+        if width != n_task:
+            axes = getattr(robot, "axes", None)
+            what = f"task axes {axes}" if isinstance(axes, str) and len(axes) == n_task else "task vector"
+            raise InvalidArgumentError(
+                f"{option} {getattr(args, key)}: points of {width} coordinates a line; the robot's {what} "
+                f"has {n_task}"
+            )

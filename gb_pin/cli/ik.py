@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from gb_pin.cli.options import add_model_options, result_robot
 
@@ -22,6 +22,7 @@ EXAMPLES = """examples:
   gb-pin babble --robot talos_left_arm --movements 3000 --out run.npz
   gb-pin ik run.npz 0.45 0.3 1.1
   gb-pin ik run.npz --targets points.csv --json
+  gb-pin ik pose.npz --pose 0.45 0.3 1.1 0 0 0 1    # a pose task's run: position and quaternion x y z w
 
 points.csv: one target per line, comma-separated coordinates on the run's task axes [m];
 blank lines, lines starting with # and a header naming the axes (x,y,z) are skipped.
@@ -62,6 +63,17 @@ def _add_options(s: argparse.ArgumentParser) -> None:
         help="seconds per target: restart from random postures until solved (default: one attempt)",
     )  # fmt: skip
     s.add_argument("--json", action="store_true", help="print the solutions as JSON")
+    s.add_argument(
+        "--pose",
+        nargs=7,
+        default=None,
+        metavar=("X", "Y", "Z", "QX", "QY", "QZ", "QW"),
+        help="a target hand pose: position [m] and unit quaternion, turned into the run's task vector "
+        "(gb_pin.ik.pose_target; --quaternion-order wxyz for QW QX QY QZ)",
+    )
+    s.add_argument(
+        "--quaternion-order", choices=("xyzw", "wxyz"), default="xyzw", help="with --pose (default xyzw)"
+    )
     add_model_options(s, robot=True)
     s.set_defaults(func=run)
 
@@ -103,6 +115,20 @@ def _targets(args: argparse.Namespace, axes: str | int, name: str) -> ArrayLike:
     return [[finite_number(c, "coordinate") for c in args.coordinates]]
 
 
+def _pose_target(args: argparse.Namespace, target: Any) -> ArrayLike:
+    """--pose X Y Z QX QY QZ QW: the run's task vector of that hand pose (one target)."""
+    from gb_pin._points import finite_number
+    from gb_pin.exceptions import InvalidArgumentError
+    from gb_pin.ik.pose import pose_target
+
+    if args.targets is not None or args.coordinates:
+        raise InvalidArgumentError(
+            "give --pose, the coordinates of one target or --targets FILE: one of them"
+        )
+    values = [finite_number(c, "--pose") for c in args.pose]
+    return [pose_target(target, values[:3], values[3:], order=args.quaternion_order)]
+
+
 def _as_json(sol: IKSolution, robot: str, joints: tuple[str, ...], axes: str) -> str:
     head = {"robot": robot, "axes": axes, "joints": list(joints), "tol": sol.tol, "seed": sol.seed}
     return json.dumps({**head, "solutions": sol.records()}, indent=1)
@@ -137,7 +163,10 @@ def run(args: argparse.Namespace) -> int:
             f"{args.run}: gb-pin ik refines on the robot's kinematic chain, which {target.name!r} (a robot "
             "given as a function) has none of; its learned postures are result.inverse(X) in Python"
         )
-    X = _targets(args, target.axes if len(target.axes) == target.n_task else target.n_task, target.name)
+    if args.pose is not None:
+        X = _pose_target(args, target)
+    else:
+        X = _targets(args, target.axes if len(target.axes) == target.n_task else target.n_task, target.name)
     sol = result.solve(
         X, tol=args.tol, max_iterations=args.max_iterations, seed=args.seed, angle_tol=args.angle_tol,
         timeout=args.timeout,

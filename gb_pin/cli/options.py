@@ -108,7 +108,7 @@ def add_robot_options(b: argparse.ArgumentParser, default: str | None) -> None:
     add_model_options(b)
 
 
-def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
+def add_model_options(b: argparse.ArgumentParser, robot: bool = False, task: bool = True) -> None:
     """--frame, --joints, --home, --axes, --srdf (and --robot if ``robot``): a URDF or erd:NAME model.
 
     ``robot``: add ``--robot`` too (``show``, ``replay``, ``plot``, ``ik``: the robot a result was
@@ -144,6 +144,21 @@ def add_model_options(b: argparse.ArgumentParser, robot: bool = False) -> None:
         help="with --robot FILE.urdf: an SRDF file whose group states name postures for --home "
         "(example-robot-data robots have theirs)",
     )
+    if task:
+        b.add_argument(
+            "--task",
+            dest="model_task",
+            default=None,
+            choices=("position", "pose", "pointing"),
+            help="with --robot FILE.urdf or erd:NAME: what the hand's x is: its position (default), its "
+            "pose (position and orientation) or position and the direction of --pointing-axis "
+            "(docs/TASKS.md)",
+        )
+        b.add_argument(
+            "--pointing-axis",
+            default=None,
+            help="with --task pointing: the frame's axis, x, y, z, -z (default z)",
+        )
 
 
 def is_model_spec(spec: str) -> bool:
@@ -166,6 +181,8 @@ def model_robot(args: argparse.Namespace, targets: Any = None) -> Any:
     spec = str(args.robot)
     options = {"--frame": args.frame, "--joints": args.joints, "--home": args.home, "--axes": args.axes}
     options["--srdf"] = getattr(args, "srdf", None)
+    options["--task"] = getattr(args, "model_task", None)
+    options["--pointing-axis"] = getattr(args, "pointing_axis", None)
     given = [name for name, value in options.items() if value is not None]
     if not is_model_spec(spec):
         if given:
@@ -187,6 +204,11 @@ def model_robot(args: argparse.Namespace, targets: Any = None) -> Any:
         except ValueError:
             home = args.home.strip()  # a named posture (SRDF / example-robot-data)
     common: dict[str, Any] = {"home": home, "axes": args.axes, "targets": targets}
+    if options["--pointing-axis"] is not None and options["--task"] != "pointing":
+        raise InvalidArgumentError("--pointing-axis goes with --task pointing")
+    if options["--task"] not in (None, "position"):
+        common["task"] = options["--task"]
+        common["pointing_axis"] = options["--pointing-axis"]
     if spec.startswith("erd:"):
         if options["--srdf"] is not None:
             raise InvalidArgumentError(f"--srdf: only with --robot FILE.urdf; {spec} brings its own SRDF")

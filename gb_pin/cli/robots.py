@@ -32,6 +32,13 @@ def _add_options(r: argparse.ArgumentParser) -> None:
         help="every arm of example-robot-data from its frame alone (joints, home, grid, radius chosen), "
         "5 trials of 3000 movements each unless --trials/--movements: the table of docs/ROBOTS.md",
     )
+    r.add_argument(
+        "--frames",
+        default=None,
+        metavar="ROBOT",
+        help="list the joints and frames of ROBOT (a preset, erd:NAME, a URDF file, MODULE:NAME): "
+        "what --frame and --joints may name",
+    )
     r.add_argument("--arms", default=None, help="with --erd: NAME:FRAME,... (default: every arm)")
     r.add_argument("--robots", default=None, help="comma-separated presets (default: all, planar5, planar20)")
     r.add_argument(
@@ -54,6 +61,8 @@ def _add_options(r: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the presets, or run the benchmark."""
+    if args.frames is not None:
+        return _frames(args.frames)
     if args.erd:
         return _erd(args)
     if args.benchmark:
@@ -61,6 +70,39 @@ def run(args: argparse.Namespace) -> int:
     from gb_pin.robot.presets import format_presets
 
     print(format_presets())
+    return 0
+
+
+def _frames(spec: str) -> int:
+    """--frames ROBOT: the joints and frames of any robot gb_pin loads."""
+    from gb_pin.cli.options import is_model_spec
+    from gb_pin.exceptions import InvalidArgumentError
+    from gb_pin.robot.frames import format_frames
+    from gb_pin.robot.spec import is_robot_spec
+
+    moved: tuple[str, ...] = ()
+    frame = None
+    if is_model_spec(spec):
+        from gb_pin.robot.models import load_example_robot, load_urdf_model
+
+        model = load_example_robot(spec[4:])[0] if spec.startswith("erd:") else load_urdf_model(spec)
+    else:
+        if is_robot_spec(spec):
+            from gb_pin.robot.spec import load_robot_spec
+
+            target = load_robot_spec(spec)
+        else:
+            from gb_pin.robot.presets import load_robot
+
+            target = load_robot(spec)  # an unknown preset: the closest names
+        if not hasattr(target, "full_model"):
+            raise InvalidArgumentError(
+                f"--frames {spec}: {type(target).__name__} has no Pinocchio model "
+                "(a robot given as a function)"
+            )
+        model = target.full_model
+        moved, frame = tuple(getattr(target, "joints", None) or ()), getattr(target, "frame", None)
+    print(format_frames(model, spec, moved, frame))
     return 0
 
 

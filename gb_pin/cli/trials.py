@@ -7,7 +7,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.goal_options import add_goal_options, goal_values
+from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
     add_quiet,
@@ -72,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     robot = robot_argument(
         args, "planar5", None if isinstance(given, str) else given
     )  # each worker builds it again
+    check_widths(args, goal_args, robot)
     for line in onboarding_lines(robot):
         print(line, flush=True)
     start = time.perf_counter()

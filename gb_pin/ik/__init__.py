@@ -7,6 +7,7 @@
 - :mod:`~gb_pin.ik.clock`: the clock and random streams of compiled code;
 - :mod:`~gb_pin.ik.robot`: the robot as the solver sees it (a preset name resolves here);
 - :mod:`~gb_pin.ik.solution`: the typed results, :class:`IKSolution` and :class:`IKPath`;
+- :mod:`~gb_pin.ik.pose`: :func:`pose_target`, a position and quaternion as a pose task's target;
 - :mod:`~gb_pin.ik.api`: :func:`solve` and :func:`solve_path` (also ``BabbleResult.solve``).
 
 This layer imports only gb_pin.learn and the shared modules (and the robot layer's presets for a
@@ -22,6 +23,7 @@ from gb_pin.ik.api import (
     solve_path,
 )
 from gb_pin.ik.jacobian import frame_jacobian
+from gb_pin.ik.pose import pose_target
 from gb_pin.ik.solution import IKPath, IKSolution
 
 __all__ = [
@@ -32,6 +34,7 @@ __all__ = [
     "IKPath",
     "IKSolution",
     "frame_jacobian",
+    "pose_target",
     "solve",
     "solve_path",
 ]

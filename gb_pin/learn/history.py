@@ -56,7 +56,7 @@ class History:
         return float(self.error[idx[0]]), float(self.home_distance[idx[0]])
 
 
-def versus_initial(error: float, initial: float) -> str:
+def versus_initial(error: float, initial: float, unit: str = " m") -> str:
     """E^X against E_0 for a summary: ``"E_0 = 0.3922 m, 1.5% of E_0"``, or why there is no ratio.
 
     E_0 is 0 when home reaches every target (then any E^X is infinitely many E_0), and NaN when
@@ -65,8 +65,8 @@ def versus_initial(error: float, initial: float) -> str:
     if math.isnan(initial):
         return "E_0 not recorded: the schedule has no movement 0"
     if initial <= 0.0:
-        return "E_0 = 0 m: home reaches every target, no ratio to E_0"
-    return f"E_0 = {initial:.4f} m, {error / initial:.1%} of E_0"
+        return f"E_0 = 0{unit}: home reaches every target, no ratio to E_0"
+    return f"E_0 = {initial:.4f}{unit}, {error / initial:.1%} of E_0"
 
 
 @dataclass(frozen=True)

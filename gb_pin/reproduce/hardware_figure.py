@@ -71,19 +71,25 @@ FLOOR = 0.05  # [mm]: errors below are drawn on the floor (feedback from exact r
 def draw_robot(rows: Sequence[dict[str, Any]], robot: str, out: str) -> list[str]:
     """One panel per tracker noise: median reach error over movements, URDF IK vs learned vs feedback.
 
-    Solid lines: no lost readings; dashed: 10 % lost. The band spans the arms' 25-75 % (solid lines).
+    Solid lines: no lost readings; dashed: 10 % lost. The band spans the arms' 25-75 % of the panel's
+    first loss level (solid lines, or the dashed ones where no condition lost none); exact IK on the
+    URDF reads no tracker, so it is drawn once per panel, whatever the losses.
     """
+    import textwrap
+
+    from matplotlib.patches import Patch
+
     groups = {(n, p): g for (r, n, p), g in _groups(rows).items() if r == robot}
     noises = sorted({n for n, _ in groups})
     snapshots = sorted({int(k) for r in rows for k in r["open"]})
-    fig = new_figure(3.6 * len(noises) + 0.6, 4.4)
+    width = max(3.6 * len(noises) + 0.6, 7.0)  # one panel: wide enough for the title and the legend
+    fig = new_figure(width, 4.6)
     axes = np.atleast_1d(fig.subplots(1, len(noises), sharey=True))
     arms = max(len(g) for g in groups.values())
     for ax, noise in zip(axes, noises, strict=True):
-        for (n, loss), group in sorted(groups.items()):
-            if n != noise:
-                continue
-            _draw_group(ax, group, snapshots, loss)
+        losses = sorted(p for n, p in groups if n == noise)
+        for loss in losses:
+            _draw_group(ax, groups[(noise, loss)], snapshots, loss, first=loss == losses[0])
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_ylim(FLOOR * 0.8, 80)
@@ -93,21 +99,29 @@ def draw_robot(rows: Sequence[dict[str, Any]], robot: str, out: str) -> list[str
         ax.axhline(1.0, color="k", lw=0.6, alpha=0.5)
     axes[0].set_ylabel("reach error on the true arm [mm]\n(median over the 27 test points; arms' median)")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle(
+    handles.append(Patch(color="0.5", alpha=0.25, lw=0))
+    labels.append(f"band: 25-75 % of the {arms} arms")
+    fig.legend(
+        handles, labels, loc="outside lower center", ncol=3 if len(noises) > 1 else 2, fontsize=8,
+        frameon=False, handlelength=4.0,  # long enough to show a dashed line's dashes
+    )  # fmt: skip
+    title = (
         f"{robot}: {arms} mis-calibrated arms (joint offsets 3 deg, links 3 %), measured on the true arm; "
-        f"points at the bottom: below {FLOOR:g} mm",
-        fontsize=10,
+        f"points at the bottom: below {FLOOR:g} mm"
     )
+    fig.suptitle("\n".join(textwrap.wrap(title, int(13 * width))), fontsize=10)
     return save_figure(fig, out, f"hardware_{robot}", ("png",))
 
 
-def _draw_group(ax: Any, group: Sequence[dict[str, Any]], snapshots: list[int], loss: float) -> None:
-    style = "-" if loss == 0 else "--"
+def _draw_group(
+    ax: Any, group: Sequence[dict[str, Any]], snapshots: list[int], loss: float, first: bool = True
+) -> None:
+    """One loss level of a panel; ``first``: the panel's first level, which draws URDF IK and the bands."""
+    style: Any = "-" if loss == 0 else (0, (4, 2))
     for way, label, color in WAYS:
         if way == "urdf":
-            if loss != 0:
-                continue  # exact IK does not read the tracker
+            if not first:
+                continue  # exact IK does not read the tracker: once per panel
             per = _per_arm(group, way, "")
             y = np.full(len(snapshots), np.median(per))
             lo, hi = np.full_like(y, np.quantile(per, 0.25)), np.full_like(y, np.quantile(per, 0.75))
@@ -118,8 +132,9 @@ def _draw_group(ax: Any, group: Sequence[dict[str, Any]], snapshots: list[int], 
             hi = np.array([np.quantile(c, 0.75) for c in cols])
         name = label if loss == 0 or way == "urdf" else f"{label}, {loss:.0%} of readings lost"
         shown = np.maximum(1000 * y, FLOOR)
-        ax.plot(snapshots, shown, style, color=color, lw=2, marker="o", ms=4, label=name)
-        if loss == 0:
+        ax.plot(snapshots, shown, linestyle="-" if way == "urdf" else style, color=color, lw=2, marker="o",
+                ms=4, label=name)  # fmt: skip
+        if first:
             ax.fill_between(snapshots, np.maximum(1000 * lo, FLOOR), np.maximum(1000 * hi, FLOOR),
                             color=color, alpha=0.15, lw=0)  # fmt: skip
 

@@ -13,10 +13,13 @@ the visual geometry on demand, for viewers.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import os
 import re
 import sys
+import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -315,9 +318,11 @@ def load_urdf_model(
     text = _xml_text(check_urdf_size(urdf))
     try:
         root = [pin.JointModelFreeFlyer()] if floating_base else []
-        model = pin.buildModelFromXML(text, *root)
+        with captured_stderr() as said:  # urdfdom prints its errors from C++, before ours
+            model = pin.buildModelFromXML(text, *root)
     except (ValueError, RuntimeError, IndexError) as exc:
-        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {str(exc)[:300]}") from exc
+        detail = f"{str(exc)[:300]}" + (f" (urdfdom: {said[0][:300]})" if said and said[0] else "")
+        raise InvalidArgumentError(f"malformed URDF file {str(urdf)!r}: {detail}") from exc
     if model.njoints <= 1:
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} describes no joint: nothing to move")
     check_limits(model, f"URDF file {str(urdf)!r}")
@@ -333,6 +338,32 @@ def load_urdf_model(
             raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
         check_reference_states(model, xml, label, text if known_states else None)
     return model
+
+
+@contextlib.contextmanager
+def captured_stderr() -> Iterator[list[str]]:
+    """Capture what C++ code writes to file descriptor 2 meanwhile (urdfdom's parse errors).
+
+    Yields a list that holds the text, stripped and on one line, once the block ends; a failure of the
+    capture itself (no fd 2, e.g. under some embedders) leaves stderr alone.
+    """
+    said: list[str] = []
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):
+        yield said
+        return
+    with tempfile.TemporaryFile() as sink:
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield said
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            text = sink.read(64 * 1024).decode("utf-8", "replace")
+            said.append(" ".join(text.split()))
 
 
 def _xml_text(data: bytes) -> str:

@@ -91,6 +91,12 @@ class Onboarding:
         shape: points per task axis of the goal grid (empty when the targets were given).
         radius: the prototype radius d [m], or None when not chosen.
         sigma: the exploration noise [rad], or None (Eq. 12's, or not chosen).
+        joints: the joints the robot moves (chosen or given), for :meth:`__str__`.
+        home: the home posture over ``joints`` (chosen or given).
+        n_targets: the goal set's size.
+
+    ``print(record)`` shows what was chosen, as ``gb-pin babble`` does (:meth:`lines`), with the
+    joints and home whether chosen or given.
     """
 
     chosen: tuple[str, ...]
@@ -102,10 +108,31 @@ class Onboarding:
     shape: tuple[int, ...] = ()
     radius: float | None = None
     sigma: float | None = None
+    joints: tuple[str, ...] = ()
+    home: tuple[float, ...] = ()
+    n_targets: int = 0
+
+    def __str__(self) -> str:
+        """What was chosen and the robot it was chosen for: joints, home, goal grid, radius, sigma."""
+        given = [c for c in CHOSEN if c not in self.chosen and not (c == "sigma" and self.sigma is None)]
+        head = f"onboarding: chosen by measurement: {', '.join(self.chosen)}"
+        head += f"; given: {', '.join(given)}" if given else ""
+        lines = self.lines(self.joints, np.asarray(self.home, dtype=float), self.n_targets)
+        if self.joints and "joints" not in self.chosen:
+            lines.insert(0, f"joints    {','.join(self.joints)} (given)")
+        if self.home and "home" not in self.chosen:
+            at = 1 if self.joints else 0
+            lines.insert(at, f"home      {','.join(f'{v:.3f}' for v in self.home)} (given)")
+        return "\n".join([head, *(f"  {line}" for line in lines)])
 
     def to_json(self) -> dict[str, Any]:
-        """A JSON-serialisable dict (the result file's ``robot_source.onboarding``)."""
+        """A JSON-serialisable dict (the result file's ``robot_source.onboarding``).
+
+        The robot's joints, home and goal set size are the file's own fields, not repeated here.
+        """
         out = dataclasses.asdict(self)
+        for key in ("joints", "home", "n_targets"):
+            del out[key]
         out["chosen"], out["dropped"], out["shape"] = list(self.chosen), list(self.dropped), list(self.shape)
         for key in ("margin", "sigma_min"):
             if not math.isfinite(out[key]):
@@ -381,6 +408,9 @@ def record(
         shape=() if grid is None else grid.shape,
         radius=None if grid is None else RADIUS_FACTOR * grid.half_width,
         sigma=sigma,
+        joints=tuple(str(j) for j in getattr(robot, "joints", ()) or ()),
+        home=tuple(float(v) for v in np.asarray(robot.home, dtype=float)),
+        n_targets=0 if grid is None else int(np.prod(grid.shape)),
     )
 
 

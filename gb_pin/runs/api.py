@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import math
 import os
 import signal
 import threading
@@ -174,7 +176,9 @@ def babble(
     if isinstance(run.target, FunctionTarget) or run.guard is not None:
         from gb_pin.runs.stepped import babble_function
 
-        return babble_function(run, callback, viewer, checkpoint, checkpoint_every, observe_every)
+        return _continued(
+            babble_function(run, callback, viewer, checkpoint, checkpoint_every, observe_every), spec.init
+        )
     from gb_pin.runs.checkpoint import checkpoint_lock
 
     learner = run.learner
@@ -193,7 +197,19 @@ def babble(
             checkpoint_every=checkpoint_every,
             should_stop=interrupted,
         )
-    return runner.result(learner, interrupted())
+    return _continued(runner.result(learner, interrupted()), spec.init)
+
+
+def _continued(result: BabbleResult, init: Any) -> BabbleResult:
+    """``result``, with E_0 of the home estimate carried over from ``init`` when it continued a run.
+
+    A continued run's history starts at the previous estimate, not at q_home: its movement 0 is no
+    E_0 (a healthy run would read as "E^X is 69 % of E_0").
+    """
+    e0 = getattr(init, "initial_error", None)
+    if init is None or e0 is None or not math.isfinite(e0):
+        return result
+    return dataclasses.replace(result, home_error=float(e0))
 
 
 def resume(

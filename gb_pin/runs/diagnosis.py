@@ -26,8 +26,8 @@ def diagnose(result: Any) -> str | None:
     Args:
         result: a :class:`~gb_pin.runs.result.BabbleResult`.
     """
-    e0 = float(result.history.error[0])
-    if result.movements < JUDGE_AFTER or e0 <= 0:
+    e0 = float(result.initial_error)  # the home estimate's, also after init= (a continued run)
+    if result.movements < JUDGE_AFTER or not e0 > 0:
         return None
     share = result.error / e0
     few = result.n_prototypes <= FEW_PROTOTYPES

@@ -126,11 +126,17 @@ def plot_result(result: BabbleResult, path: str | os.PathLike[str] | None = None
 
     See :func:`plot_history` (``result``'s history, robot name and movements).
     """
-    return plot_history(result.history, result.robot or result.target.name, result.movements, path, ax)
+    name = result.robot or result.target.name
+    return plot_history(result.history, name, result.movements, path, ax, initial_error=result.initial_error)
 
 
 def plot_history(
-    history: History, name: str, movements: int, path: str | os.PathLike[str] | None = None, ax: Any = None
+    history: History,
+    name: str,
+    movements: int,
+    path: str | os.PathLike[str] | None = None,
+    ax: Any = None,
+    initial_error: float | None = None,
 ) -> Any:
     """E^X and D^home of one run over movements (log axes), titled with robot, movements and final E^X.
 
@@ -141,6 +147,8 @@ def plot_history(
         path: write the figure there (``.png``, ``.svg`` or ``.pdf``), if given.
         ax: draw into these matplotlib axes (E^X on them, D^home on a twin axis); default: a new
             figure with two panels.
+        initial_error: E_0 [m] when the history does not start from the home estimate (a run that
+            continued another: :attr:`BabbleResult.initial_error`); default the history's movement 0.
 
     Returns:
         The ``matplotlib.figure.Figure``.
@@ -153,7 +161,9 @@ def plot_history(
     x = h.movements[keep]
     fig, err_ax, home_ax = _axes(ax)
     twin = ax is not None
-    e0 = h.initial_error  # NaN if movement 0 was not recorded; 0 if home reaches every target
+    e0 = (
+        h.initial_error if initial_error is None else initial_error
+    )  # NaN if movement 0 was not recorded; 0 if home reaches every target
     err_ax.plot(x, h.error[keep], color=ERROR_COLOR, lw=2.0, label="$E^X$")
     if e0 > 0:  # on a log axis, E_0 = 0 has no place (and no ratio)
         err_ax.axhline(e0, color="0.4", lw=0.8, ls="--", label=f"$E_0$ = {e0:.3g} m")

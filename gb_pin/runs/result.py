@@ -48,6 +48,9 @@ class BabbleResult:
         checked_asks: asks checked for collisions (safe babbling: ``obstacles``, ``self_collision``;
             not saved in result files).
         cut_asks: of those, the asks cut short at the last safe posture.
+        home_error: E_0 of the constant home estimate when this run continued another one
+            (``babble(init=...)``, ``gb-pin babble --continue``), kept from the first run of the chain;
+            None for a run from scratch, whose history starts with it (see :attr:`initial_error`).
     """
 
     target: KinematicTarget
@@ -67,10 +70,11 @@ class BabbleResult:
     missing: int = 0
     checked_asks: int = 0
     cut_asks: int = 0
+    home_error: float | None = None
 
     def __repr__(self) -> str:
         """A summary in a few lines: robot, run, final errors, the arrays' shapes (not their values)."""
-        e0 = float(self.history.error[0])
+        e0 = self.initial_error
         share = f", {self.error / e0:.1%} of E_0" if e0 > 0 else ""
         recorded = "None" if self.recording is None else f"<{len(self.recording.step)} steps>"
         goal_set = "" if self.goal_targets is None else f", goal_targets=<{_shape(self.goal_targets)} array>"
@@ -98,6 +102,18 @@ class BabbleResult:
     def error(self) -> float:
         """Final E^X [m]."""
         return float(self.history.error[-1])
+
+    @property
+    def initial_error(self) -> float:
+        """E_0 [m]: E^X of the constant home estimate q_home, the paper's reference for E^X.
+
+        A run from scratch measured it at movement 0; a continued run (``init=``) starts from the
+        previous run's estimate, so its E_0 is the first run's (:attr:`home_error`), not its own
+        movement 0. NaN when neither was recorded.
+        """
+        if self.home_error is not None:
+            return float(self.home_error)
+        return self.history.initial_error
 
     @property
     def home_distance(self) -> float:
@@ -162,6 +178,18 @@ class BabbleResult:
             GbPinError: matplotlib is not installed (``pip install 'gb_pin[plots]'``).
         """
         return plot_result(self, path, ax)
+
+    def export_inverse(self, path: str | os.PathLike[str]) -> str:
+        """Write the learned inverse g to a plain ``.npz`` for use without gb_pin or numba.
+
+        ``examples/numpy_inverse.py`` reads it in about 30 lines of numpy (:mod:`gb_pin.runs.export`).
+
+        Returns:
+            The path written.
+        """
+        from gb_pin.runs.export import export_inverse
+
+        return export_inverse(self, path)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str], target: KinematicTarget | None = None) -> BabbleResult:

@@ -65,6 +65,8 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         extra["goal_targets"] = result.goal_targets
     if result.goals is not None:  # a goal generator other than the paper's
         meta["goals"] = result.goals
+    if result.home_error is not None:  # a continued run: the first run's E_0
+        meta["home_error"] = result.home_error
     if result.state is not None:  # the final state: babble(init=load_result(...)) continues the run
         from gb_pin.runs.checkpoint import state_header
 
@@ -147,6 +149,7 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             else None,
             state=_state(path, arrays, meta, config, target),
             missing=fields.count(path, meta, "missing") if "missing" in meta else 0,
+            home_error=fields.seconds(path, meta, "home_error") if "home_error" in meta else None,
         )
     except GbPinError as exc:
         if isinstance(exc, ResultFileError):

@@ -13,7 +13,9 @@ in the header's ``robot_source``, a small JSON object saying how to build it aga
 
 ``home`` is the resolved home posture (numbers over ``joints``), ``chain_sha256`` the digest of the
 kinematic chain the run learned on: a rebuilt robot whose kinematics differ (the URDF was edited) is
-refused, never silently used. An onboarded robot (:mod:`gb_pin.robot.onboarding`) adds ``onboarding``,
+refused, never silently used. A stacked task (``--task pose``, docs/TASKS.md) adds ``task``, its
+components as tables (``{"kind": "orientation", "frame", "scale", "reference"}``).
+An onboarded robot (:mod:`gb_pin.robot.onboarding`) adds ``onboarding``,
 what was chosen by measurement (the goal grid's half-width and shape, the radius...): the rebuilt robot
 has the same goal grid and radius without measuring again. A file is untrusted input: :func:`check`
 validates every entry (types, lengths, values) before anything is built. A module spec is never
@@ -40,8 +42,8 @@ MAX_TEXT = 4096  # characters of a path or a module spec
 MAX_NAME = 256  # characters of a robot, frame or joint name
 MAX_JOINTS = 4096
 _KEYS = {
-    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
-    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding"},
+    "urdf": {"kind", "path", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding", "task"},
+    "erd": {"kind", "robot", "frame", "joints", "home", "axes", "name", "chain_sha256", "onboarding", "task"},
     "module": {"kind", "spec"},
     "plant": {"kind", "base", "offsets", "scales", "noise", "loss", "seed", "name", "chain_sha256"},
 }
@@ -105,6 +107,8 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
     }
     if target.onboarding is not None:
         common["onboarding"] = target.onboarding.to_json()
+    if target.task is not None:
+        common["task"] = [_task_table(spec) for spec in target.task]
     erd = _erd_name(target.urdf)
     if erd is not None:
         source = {"kind": "erd", "robot": erd, **common}
@@ -114,6 +118,30 @@ def describe(target: Any, robot: str | None) -> dict[str, Any] | None:
         return check("robot_source", source)
     except ResultFileError:
         return None
+
+
+def _task_table(spec: Any) -> dict[str, Any]:
+    """A task component as a JSON table (:func:`gb_pin.robot.task_spec.from_mapping` reads it)."""
+    out: dict[str, Any] = {"kind": type(spec).__name__.lower()}
+    for f in dataclasses.fields(spec):
+        value = getattr(spec, f.name)
+        out[f.name] = np.asarray(value, dtype=float).tolist() if isinstance(value, np.ndarray) else value
+    return out
+
+
+def _check_task(path: str, value: Any) -> None:
+    """Raise unless ``value`` is a list of task component tables that build (kinds, keys, numbers)."""
+    from gb_pin.robot.task_spec import from_mapping
+
+    if not isinstance(value, list) or not 0 < len(value) <= 16:
+        raise _fail(path, "task", value, "a list of 1 to 16 task component tables")
+    for table in value:
+        if not isinstance(table, dict) or not _printable(str(table.get("frame")), MAX_NAME):
+            raise _fail(path, "task", table, "a table with kind, frame and the component's values")
+        try:
+            from_mapping(table)
+        except (GbPinError, TypeError, ValueError) as exc:
+            raise _fail(path, "task", table, f"a valid task component ({exc})") from exc
 
 
 def _describe_plant(plant: Any) -> dict[str, Any] | None:
@@ -264,6 +292,8 @@ def check(path: str, value: Any) -> dict[str, Any] | None:
     digest = value.get("chain_sha256")
     if not isinstance(digest, str) or not re.fullmatch("[0-9a-f]{64}", digest):
         raise _fail(path, "chain_sha256", digest, "64 hexadecimal digits")
+    if "task" in value:
+        _check_task(path, value["task"])
     if "onboarding" in value:
         _check_onboarding(path, value["onboarding"], len(axes))
     return dict(value)
@@ -351,6 +381,8 @@ def rebuild(path: str, source: dict[str, Any]) -> Any:
         )
     args = (source["frame"], source["joints"])
     options = {"home": np.asarray(source["home"], dtype=np.float64), "axes": source["axes"], "onboard": False}
+    if "task" in source:
+        options["task"] = source["task"]
     try:
         if source["kind"] == "urdf":
             target = KinematicTarget.from_urdf(source["path"], *args, **options, name=source["name"])
@@ -378,4 +410,6 @@ def restore_onboarding(target: Any, raw: dict[str, Any]) -> None:
     record = Onboarding.from_json(raw)
     if "targets" in record.chosen:
         target.targets = regular_grid(target.home_position, record.half_width, record.shape)
-    target.onboarding = record
+    count = 0 if target.targets is None else len(target.targets)
+    home = tuple(float(v) for v in target.home)
+    target.onboarding = dataclasses.replace(record, joints=tuple(target.joints), home=home, n_targets=count)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import signal
+import threading
 import time
 from typing import TYPE_CHECKING
 
@@ -53,7 +55,16 @@ def live_model(result: BabbleResult, port: int | None = None, few: int = 5) -> V
 
 
 def serve_until_interrupted(viewer: Viewer, seconds: float | None = None) -> None:
-    """Keep ``viewer`` serving until Ctrl-C (or ``seconds``), then close it."""
+    """Keep ``viewer`` serving until Ctrl-C (or ``seconds``), then close it.
+
+    Ctrl-C works even where SIGINT was ignored when the process started (a job started with ``&``
+    inherits SIGINT ignored, and Python then keeps it so: such a server could only be killed), and
+    SIGTERM closes the server the same way.
+    """
+    restore = []
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            restore.append((sig, signal.signal(sig, signal.default_int_handler)))
     try:
         if seconds is None:
             while True:
@@ -64,3 +75,5 @@ def serve_until_interrupted(viewer: Viewer, seconds: float | None = None) -> Non
         pass
     finally:
         viewer.close()
+        for sig, handler in restore:
+            signal.signal(sig, handler)

@@ -58,6 +58,7 @@ class StickFigure:
             for i in range(self.n_joints)
         ]
         links.append((self._frame_joint, np.zeros(3), self._frame_translation.copy()))
+        links += self._rails(target)
         self.links = [(j, a, b) for j, a, b in links if np.linalg.norm(b - a) > 1e-9]
         length = sum(float(np.linalg.norm(b - a)) for _, a, b in self.links)
         self.size = length if length > 0 else 1.0
@@ -67,6 +68,31 @@ class StickFigure:
         self.link_radius = min(0.008 * self.size, 0.5 * self.joint_radius)
         self.effector_radius = 0.02 * self.size
         self._joint_paths = [self.joint_path(j) for j in range(1, self.n_joints + 1)]
+
+    def _rails(self, target: KinematicTarget) -> list[tuple[int, NDArray[np.float64], NDArray[np.float64]]]:
+        """A stroke along each prismatic joint's travel, in its parent's frame: (parent, start, end).
+
+        A prismatic joint's motion is no link (its placement is fixed, the slide comes after it), so
+        without this stroke the joint's sphere moved through empty space. The rail spans the joint's
+        limits (0.3 of the arm's other links' length each way where a limit is infinite).
+        """
+        from gb_pin.learn.body.joints import PRISMATIC
+
+        joints = self._joints
+        fixed = sum(float(np.linalg.norm(t)) for t in joints.translations) or 1.0
+        lower = np.asarray(target.lower, dtype=float)
+        upper = np.asarray(target.upper, dtype=float)
+        rails = []
+        for i in range(self.n_joints):
+            if int(joints.kinds[i]) != PRISMATIC:
+                continue
+            k = int(joints.q_index[i])
+            lo = lower[k] if np.isfinite(lower[k]) else -0.3 * fixed
+            hi = upper[k] if np.isfinite(upper[k]) else 0.3 * fixed
+            direction = np.asarray(joints.rotations[i], dtype=float) @ np.asarray(joints.axes[i], dtype=float)
+            origin = np.asarray(joints.translations[i], dtype=float)
+            rails.append((int(joints.parents[i]) + 1, origin + lo * direction, origin + hi * direction))
+        return rails
 
     def joint_path(self, j: int) -> str:
         """meshcat path of joint ``j``'s node (``j`` = 0: the fixed base)."""

@@ -1,0 +1,201 @@
+"""Every ```python and ```bash block of README.md and docs/*.md runs as written, so docs cannot go stale.
+
+Each block runs in a fresh interpreter or bash, in an empty folder holding small stand-ins for what a
+reader brings: ``my_arm.urdf`` (+ ``my_arm.srdf``), ``points.csv`` / ``poses.csv``, ``examples/`` and
+``my_driver`` (a Python object whose ``move_and_read(q)`` reads the kinematic SO-101). Runs are made
+small, the same way for every block (:func:`shrink`): ``--movements N`` / ``movements=N`` at most
+:data:`SMALL_MOVEMENTS`, trials at most 2, ``--samples`` at most 20, checkpoints every 20 movements.
+
+Lines a test machine cannot run are left out by rule: ``pip install`` (the test's environment has the
+extras), a venv prefix (``python3 -m venv .venv && .venv/bin/pip install ... &&``: the rest runs here),
+and commands that serve a browser until Ctrl-C (``--view``, ``gb-pin replay/show FILE`` without
+``--html``). A block that needs what a test machine lacks says so, and is skipped with that reason:
+``# needs: WHAT`` on its first line, or ``<!-- needs: WHAT -->`` on the line before its fence (invisible
+on the rendered page), e.g. ``browser``, ``a SLURM cluster``, ``a long run (...)``.
+
+New blocks (other pages, other sections) are picked up without any change here.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+from typing import NamedTuple
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+FENCE = re.compile(
+    r"(?:^<!--\s*needs:\s*(?P<html>.*?)\s*-->\n)?^```(?P<lang>python|bash)\n(?P<body>.*?)^```", re.M | re.S
+)
+SMALL_MOVEMENTS = 60
+TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s per process)
+
+pytestmark = (
+    pytest.mark.slow
+)  # about 3-4 minutes for all pages on the 2-core machine: not in the quick subset
+
+
+class Block(NamedTuple):
+    """One fenced block: where it is, its language, its text, and what it needs (None: it runs here)."""
+
+    page: str
+    line: int
+    lang: str
+    text: str
+    needs: str | None
+
+
+def blocks() -> list[Block]:
+    """The ```python and ```bash blocks of README.md and docs/*.md, in order."""
+    out = []
+    for page in PAGES:
+        text = page.read_text()
+        for m in FENCE.finditer(text):
+            body = m.group("body")
+            first = body.lstrip().splitlines()[0] if body.strip() else ""
+            marker = re.match(r"#\s*needs:\s*(.+)", first)
+            needs = m.group("html") or (marker.group(1).strip() if marker else None)
+            line = text.count("\n", 0, m.start("lang")) + 1
+            out.append(Block(page.relative_to(ROOT).as_posix(), line, m.group("lang"), body, needs))
+    return out
+
+
+def _at_most(limit: int):  # type: ignore[no-untyped-def]
+    def replace(m: re.Match[str]) -> str:
+        return f"{m.group(1)}{min(int(m.group(2).replace('_', '')), limit)}"
+
+    return replace
+
+
+def shrink(text: str) -> str:
+    """The block with small runs: the same commands and calls, fewer movements, trials, samples."""
+    for pattern, limit in (
+        (r"(--movements[ =])([\d_]+)", SMALL_MOVEMENTS),
+        (r"(\bmovements=)([\d_]+)", SMALL_MOVEMENTS),
+        (r"(--trials[ =])(\d+)", 2),
+        (r"(\btrials=)(\d+)", 2),
+        (r"(--samples[ =])(\d+)", 20),
+        (r"(--checkpoint-every[ =])(\d+)", 20),
+        (r"(\bcheckpoint_every=)(\d+)", 20),
+        (r"(--crash-at[ =])(\d+)", 20),
+    ):
+        text = re.sub(pattern, _at_most(limit), text)
+    return text
+
+
+VENV_PREFIX = re.compile(r"^python3 -m venv \.venv && \.venv/bin/pip install [^&]*&& ")
+SERVES = re.compile(r"(--view\b(?!-)|gb-pin (replay|show) \S+\s*($|#|--speed))")
+
+
+def bash_lines(text: str) -> str:
+    """The block's lines a test machine runs (see the module); the others become comments."""
+    out = []
+    for line in text.splitlines():
+        line = VENV_PREFIX.sub("", line).replace(".venv/bin/", "")
+        code = line.split(" #", 1)[0]
+        if "pip install" in code or (SERVES.search(code) and "--html" not in code):
+            out.append(f"# (left out by tests/test_docs.py) {line}")
+        else:
+            out.append(line)
+    return "\n".join(out)
+
+
+STAND_IN_DRIVER = """
+class _StandInDriver:
+    # tests/test_docs.py: the reader's driver; here, the kinematic SO-101 read exactly
+    def __init__(self):
+        import gb_pin
+        self.arm = gb_pin.load_robot("so101")
+    def move_and_read(self, q):
+        return self.arm.forward(q)
+my_driver = _StandInDriver()
+"""
+
+URDF = """<?xml version="1.0"?>
+<robot name="my_arm">
+  <link name="base"/>
+  <link name="l1"/><link name="l2"/><link name="l3"/><link name="tool"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-2.5" upper="2.5" effort="1"
+      velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="-1.8" upper="1.8" effort="1"
+      velocity="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-2.5" upper="2.5" effort="1"
+      velocity="1"/></joint>
+  <joint name="tool_joint" type="fixed"><parent link="l3"/><child link="tool"/>
+    <origin xyz="0 0 0.25"/></joint>
+</robot>
+"""
+
+SRDF = """<?xml version="1.0"?>
+<robot name="my_arm">
+  <group_state name="ready" group="arm">
+    <joint name="j1" value="0.2"/><joint name="j2" value="0.5"/><joint name="j3" value="0.8"/>
+  </group_state>
+</robot>
+"""
+
+
+def _stand_ins(folder: Path) -> None:
+    """What a reader brings: a URDF (and SRDF), point files, the examples."""
+    (folder / "my_arm.urdf").write_text(URDF)
+    (folder / "my_arm.srdf").write_text(SRDF)
+    (folder / "points.csv").write_text("0.45,0.3,1.1\n0.4,0.35,1.0\n")
+    (folder / "poses.csv").write_text("0.45,0.3,1.1\n")
+    (folder / "examples").symlink_to(ROOT / "examples")
+    (folder / "docs" / "figures").mkdir(parents=True)  # where the reproduce commands write
+
+
+BLOCKS = blocks()
+
+
+def test_docs_have_blocks() -> None:
+    """README and docs show their commands in many blocks, and most of them run here."""
+    assert len(BLOCKS) >= 30
+    assert sum(b.needs is None for b in BLOCKS) >= 25
+    assert {b.page for b in BLOCKS} >= {"README.md", "docs/IK.md", "docs/ROBOTS.md", "docs/TASKS.md"}
+
+
+def test_shrink_and_rules() -> None:
+    """The overrides keep a command's meaning and only make it small; serving lines are left out."""
+    assert shrink("gb-pin babble --movements 3000 --trials 10") == "gb-pin babble --movements 60 --trials 2"
+    assert shrink("babble(robot, movements=10_000, trials=4)") == "babble(robot, movements=60, trials=2)"
+    assert shrink("--movements 20") == "--movements 20"
+    text = bash_lines(
+        "gb-pin replay run.npz   # loops\ngb-pin replay run.npz --html r.html\ngb-pin babble --view\n"
+        "gb-pin babble --view-pace 3 --out x.npz --view\npip install -e .\n"
+        "python3 -m venv .venv && .venv/bin/pip install -e . && .venv/bin/gb-pin babble --seed 0"
+    ).splitlines()
+    assert [line.startswith("#") for line in text] == [True, False, True, True, True, False]
+    assert text[-1] == "gb-pin babble --seed 0"
+
+
+@pytest.mark.parametrize("block", BLOCKS, ids=[f"{b.page}:{b.line}" for b in BLOCKS])
+def test_doc_block_runs(block: Block, tmp_path: Path) -> None:
+    """The block runs without error (imports, files and commands included), made small."""
+    if block.needs is not None:
+        pytest.skip(f"{block.page}:{block.line} needs {block.needs}")
+    _stand_ins(tmp_path)
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    text = shrink(block.text)
+    if block.lang == "python":
+        if re.search(r"\bmy_driver\b", text) and not re.search(r"^my_driver\s*=", text, re.M):
+            text = STAND_IN_DRIVER + text
+        command = [sys.executable, "-c", text]
+    else:
+        text = bash_lines(text)
+        command = ["bash", "-e", "-o", "pipefail", "-c", text]
+    done = subprocess.run(
+        command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=TIMEOUT, check=False
+    )
+    where = f"{block.page}:{block.line} ({block.lang}, as run):\n{textwrap.indent(text, '    ')}"
+    assert done.returncode == 0, f"{where}\n{done.stdout[-2000:]}\n{done.stderr[-3000:]}"
