@@ -123,8 +123,9 @@ def _default(value: float | str | None) -> str:
 
 
 def parse_spec(option: str, text: str, defaults: dict[str, float | str | None]) -> dict[str, Any]:
-    """``key=value,...`` over ``defaults``' keys: numbers, or words where the default is a word
-    (``auto``: a key's own default, as --help shows).
+    """``key=value,...`` over ``defaults``' keys: numbers, or words where a default is a word.
+
+    ``auto`` gives a key its own default, as --help shows.
 
     Raises:
         InvalidArgumentError: an unknown key (the closest named), a key given twice, a value that is
