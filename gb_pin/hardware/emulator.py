@@ -302,7 +302,7 @@ def options_parser() -> argparse.ArgumentParser:
     a.add_argument("--loss", type=float, default=0.1, help="probability that the tracker loses the hand")
     a.add_argument("--drop", type=float, default=0.0, help="probability that a reply is dropped")
     a.add_argument("--late", type=float, default=0.0, help="probability that a reply comes late")
-    a.add_argument("--late-delay", type=float, default=0.015, help="how late [s] (after the host's timeout)")
+    a.add_argument("--late-delay", type=float, default=0.03, help="how late [s] (FeetechArm waits 0.02 s)")
     return a
 
 
