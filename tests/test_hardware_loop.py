@@ -79,7 +79,7 @@ def test_the_arm_learns_what_the_urdf_misses() -> None:
     of the replies; errors measured on the emulator's true body.
     """
     with (
-        Emulator(seed=7, speed=60000, drop=0.01) as bus,
+        Emulator(seed=7, speed=1e6, drop=0.01) as bus,
         FeetechArm(bus.port, "so101", bus.calibration, max_joint_step=0.05, reply_timeout=0.01) as arm,
     ):
         result = babble_on_arm(arm, bus.tracker, movements=300, seed=0)

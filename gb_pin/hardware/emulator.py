@@ -2,7 +2,8 @@
 
 ``python -m gb_pin.hardware.emulator --robot so101 --seed 3`` opens a pty (the emulator owns the
 master side), prints one JSON line ``{"port": SLAVE_PATH, "control": SOCKET, "authkey": HEX,
-"calibration": {...}}`` and serves the bus until stdin closes. The driver opens ``port`` with
+"calibration": {...}}`` and serves the bus until stdin closes (``--serve``: from a shell, until
+Ctrl-C, printing the ``gb-pin babble --arm`` command that drives it). The driver opens ``port`` with
 pyserial as it would ``/dev/ttyACM0``. What the bus does:
 
 - protocol 0 (:mod:`gb_pin.hardware.protocol`): PING, READ, WRITE, SYNC_READ, SYNC_WRITE,
@@ -30,6 +31,7 @@ import json
 import math
 import os
 import select
+import signal
 import subprocess
 import sys
 import tempfile
@@ -302,7 +304,11 @@ def options_parser() -> argparse.ArgumentParser:
     a.add_argument("--loss", type=float, default=0.1, help="probability that the tracker loses the hand")
     a.add_argument("--drop", type=float, default=0.0, help="probability that a reply is dropped")
     a.add_argument("--late", type=float, default=0.0, help="probability that a reply comes late")
-    a.add_argument("--late-delay", type=float, default=0.015, help="how late [s] (after the host's timeout)")
+    a.add_argument("--calibration-out", default=None, help="write the arm's LeRobot calibration file here")
+    a.add_argument(
+        "--serve", action="store_true", help="from a shell: print how to connect, serve until Ctrl-C"
+    )
+    a.add_argument("--late-delay", type=float, default=0.03, help="how late [s] (FeetechArm waits 0.02 s)")
     return a
 
 
@@ -318,10 +324,25 @@ def main(argv: list[str] | None = None) -> int:
     listener = Listener(os.path.join(folder, "control"), family="AF_UNIX", authkey=authkey)
     threading.Thread(target=_listen, args=(bus, listener, stop), daemon=True).start()
     threading.Thread(target=bus.serve, args=(master, stop), daemon=True).start()
-    print(json.dumps({"port": os.ttyname(slave), "control": listener.address, "authkey": authkey.hex(),
-                      "calibration": bus.calibration, "pid": os.getpid()}), flush=True)  # fmt: skip
-    with contextlib.suppress(KeyboardInterrupt):
-        sys.stdin.read()  # until the parent closes our stdin (or dies)
+    info = {"port": os.ttyname(slave), "control": listener.address, "authkey": authkey.hex()}
+    if options.calibration_out:
+        with open(options.calibration_out, "w", encoding="utf-8") as f:
+            json.dump(bus.calibration, f, indent=1)
+    if options.serve:  # from a shell: say how to use it, serve until Ctrl-C
+        print(f"emulated {options.robot} bus on {info['port']} (Ctrl-C ends it); in another shell:\n"
+              f"export {ENVIRONMENT}='{json.dumps({k: info[k] for k in ('control', 'authkey')})}'\n"
+              f"gb-pin babble --robot {options.robot} --arm feetech:port={info['port']},calibration="
+              f"{options.calibration_out or 'FILE'} --tracker gb_pin.hardware.emulator:tracker "
+              "--movements 300",
+              flush=True)  # fmt: skip
+        signal.signal(signal.SIGTERM, lambda *_: stop.set())
+        with contextlib.suppress(KeyboardInterrupt):
+            while not stop.wait(0.2):
+                pass
+    else:
+        print(json.dumps({**info, "calibration": bus.calibration, "pid": os.getpid()}), flush=True)
+        with contextlib.suppress(KeyboardInterrupt):
+            sys.stdin.read()  # until the parent closes our stdin (or dies)
     stop.set()
     listener.close()
     os.close(slave)
