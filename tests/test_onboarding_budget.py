@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import gb_pin
@@ -32,3 +33,14 @@ def test_the_budget_grows_with_the_chain() -> None:
     assert onboarding.Budget(200).seconds == pytest.approx(
         onboarding.BUDGET_SECONDS + 200 * onboarding.BUDGET_PER_JOINT
     )
+
+
+def test_jacobians_in_chunks_are_the_jacobians_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Chunked forward differences (bounded memory on long chains) equal the one-batch ones bit for bit."""
+    arm = gb_pin.KinematicTarget.from_urdf(
+        URDF, "tool", home=[0.1, 0.2, 0.05, 0.3], targets=[[0.3, 0.1, 0.4]]
+    )
+    Q = np.random.default_rng(0).uniform(-1, 1, (13, arm.n_joints)) * 0.5
+    whole = onboarding._jacobians(arm, Q)
+    monkeypatch.setattr(onboarding, "JACOBIAN_ENTRIES", 3 * (arm.n_joints + 1) * arm.n_joints)
+    np.testing.assert_array_equal(onboarding._jacobians(arm, Q), whole)

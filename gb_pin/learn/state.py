@@ -43,6 +43,7 @@ class BabbleState:
 
     def __init__(self) -> None:
         self.far_reading: tuple[int, int, NDArray[np.float64]] | None = None  # (note_reading)
+        self._extent: tuple[NDArray[np.float64], float] | None = None  # (the goal set, its outlier bound)
         self.rng: np.random.Generator
         self.config: BabbleConfig
         self.chain: KinematicChain | None
@@ -368,7 +369,9 @@ class BabbleState:
 
         Should the estimate diverge later, the error names that reading, not the settings.
         """
-        if float(np.max(np.abs(x))) > OUTLIER * max(float(np.max(np.abs(self.targets))), 0.1):
+        if self._extent is None or self._extent[0] is not self.targets:  # once per goal set
+            self._extent = (self.targets, OUTLIER * max(float(np.max(np.abs(self.targets))), 0.1))
+        if max(map(abs, x.tolist())) > self._extent[1]:  # (numpy's max costs 3 us a tell here)
             self.far_reading = (self.movements, self.steps, x.copy())
 
     def _diverged(self) -> None:

@@ -210,9 +210,20 @@ def path_joints(model: pin.Model, frame_id: int, name: str) -> list[str]:
     return out[::-1]
 
 
+JACOBIAN_ENTRIES = 4 * 10**6
+"""Postures x joints^2 of the shifted postures built at once by :func:`_jacobians` (32 MB)."""
+
+
 def _jacobians(robot: Robot, Q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Forward-difference task Jacobians (N, n, m) of the chain at postures Q (N, m)."""
+    """Forward-difference task Jacobians (N, n, m) of the chain at postures Q (N, m).
+
+    In chunks of postures whose shifted copies (m + 1 per posture) hold at most
+    :data:`JACOBIAN_ENTRIES` numbers: all at once, 202 candidates of a 997-joint chain took 1.6 GB.
+    """
     N, m = Q.shape
+    chunk = max(1, JACOBIAN_ENTRIES // ((m + 1) * m))
+    if chunk < N:
+        return np.concatenate([_jacobians(robot, Q[i : i + chunk]) for i in range(0, N, chunk)])
     body = robot.chain.kernel()
     stacked = np.repeat(Q, m + 1, axis=0).reshape(N, m + 1, m)
     stacked[:, np.arange(1, m + 1), np.arange(m)] += _STEP
