@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from typing import Any
 
 import numpy as np
 
@@ -22,15 +23,35 @@ from gb_pin.safety.scenarios import panda_scene, so101_scene
 from gb_pin.sim import MujocoPlant
 
 
-def run(scene, seed: int, movements: int, checked: bool) -> dict:  # type: ignore[no-untyped-def]
-    """One run of a scene in the MuJoCo plant: checked (contacts on) or the baseline; its figures."""
+class KinematicPlant:
+    """The kinematic robot as a plant (forward kinematics, counted asks), for runs without physics."""
+
+    def __init__(self, robot: str) -> None:
+        self.target = gb_pin.load_robot(robot)
+        self.asks = 0
+
+    def forward(self, q: Any) -> Any:
+        """The hand's position at ``q`` [m]."""
+        self.asks += 1
+        return self.target.forward(q)
+
+
+def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False) -> dict:  # type: ignore[no-untyped-def]
+    """One run of a scene in the MuJoCo plant: checked (contacts on) or the baseline; its figures.
+
+    ``kinematic``: on the kinematic robot instead (no physics, no contacts counted).
+    """
     options = {"obstacles": scene.obstacles, "self_collision": True} if checked else {}
-    plant = MujocoPlant(scene.robot, kp=scene.kp, **options)
-    session = gb_pin.babble_session(plant, movements=movements, seed=seed, targets=scene.goals, **options)
+    plant: Any = (
+        KinematicPlant(scene.robot) if kinematic else MujocoPlant(scene.robot, kp=scene.kp, **options)
+    )
+    robot = plant.target if kinematic else plant
+    session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **options)
     independent = None
     if checked:
+        matrix = session.guard.matrix  # type: ignore[union-attr]
         independent = CollisionChecker(plant.target, scene.obstacles, self_collision=True, clearance=1e-6,
-                                       matrix=plant.collision.matrix)  # fmt: skip
+                                       matrix=matrix)  # fmt: skip
     unsafe = 0
     extra = 0.0  # the independent check's time, not counted in the run's wall time
     start = time.perf_counter()
@@ -48,8 +69,8 @@ def run(scene, seed: int, movements: int, checked: bool) -> dict:  # type: ignor
         "error_mm": 1000 * float(result.history.error[-1]),
         "reach_mm": 1000 * float(result.history.reach[-1]),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
-        "contacts": int(plant.contacts) if checked else None, "wall_s": wall,
-        "checks": None if not checked else int(plant.collision.checks),
+        "contacts": int(plant.contacts) if checked and not kinematic else None, "wall_s": wall,
+        "checks": None if not checked else int(session.guard.checks),  # type: ignore[union-attr]
     }  # fmt: skip
 
 
@@ -60,6 +81,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--robots", nargs="+", default=["so101", "panda"])
     parser.add_argument("--json", default=None)
+    parser.add_argument("--kinematic", action="store_true", help="on the kinematic robot (no physics)")
     args = parser.parse_args()
     scenes = {"so101": so101_scene, "panda": panda_scene}
     rows = []
@@ -67,7 +89,7 @@ def main() -> None:
         scene = scenes[robot]()
         for seed in args.seeds:
             for checked in (True, False):
-                row = run(scene, seed, args.movements, checked)
+                row = run(scene, seed, args.movements, checked, args.kinematic)
                 rows.append(row)
                 print(json.dumps(row), flush=True)
                 if args.json:
@@ -77,7 +99,9 @@ def main() -> None:
         on = [r for r in rows if r["robot"] == robot and r["checked"]]
         off = [r for r in rows if r["robot"] == robot and not r["checked"]]
         e_on, e_off = np.median([r["error_mm"] for r in on]), np.median([r["error_mm"] for r in off])
-        total = {key: sum(r[key] for r in on) for key in ("contacts", "unsafe_sent", "cut", "asks", "wall_s")}
+        total = {
+            key: sum(r[key] or 0 for r in on) for key in ("contacts", "unsafe_sent", "cut", "asks", "wall_s")
+        }
         print(
             f"{robot}: {len(on)} seeds x {args.movements} movements; contacts {total['contacts']}, "
             f"unsafe asks sent {total['unsafe_sent']}, cut {total['cut']} of {total['asks']} asks; "

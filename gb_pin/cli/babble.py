@@ -163,8 +163,11 @@ def run(args: argparse.Namespace) -> int:
             f"--resume continues the checkpoint's goals and sets; drop {', '.join(sorted(goal_args))}"
         )
     if args.resume:
-        given = [o for o, v in (("--plant", args.plant), ("--sensor", args.sensor),
-                                ("--max-joint-step", args.max_joint_step)) if v is not None]  # fmt: skip
+        options = (("--plant", args.plant), ("--sensor", args.sensor),
+                   ("--max-joint-step", args.max_joint_step), ("--table", args.table),
+                   ("--obstacle", args.obstacle),
+                   ("--self-collision", args.self_collision or None))  # fmt: skip
+        given = [o for o, v in options if v is not None]
         if given:
             raise InvalidArgumentError(
                 f"--resume continues the checkpoint's robot and options: drop {', '.join(given)}"

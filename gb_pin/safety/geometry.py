@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from gb_pin.exceptions import UnsafeSetupError
 
 GEOMETRY_KINDS = ("urdf", "capsules")
+_HULLS: dict[tuple[Any, ...], Any] = {}  # the convex hulls of a URDF's meshes, by file, size, time, dirs
 
 
 class RobotGeometry(NamedTuple):
@@ -75,6 +76,8 @@ def robot_geometry(target: Any, kind: str = "urdf", capsule_radius: float = 0.02
             f"the URDF of {target.name!r} has no <collision> geometry; "
             "ask for self_collision='capsules' (simple capsules per link) or add collision elements"
         )
+    stat = os.stat(urdf)
+    key = (os.path.realpath(urdf), stat.st_size, stat.st_mtime_ns, tuple(dirs))
     fm = target.full_model
     fdata = fm.createData()
     pin.forwardKinematics(fm, fdata, target.full_configuration(target.home))
@@ -92,8 +95,7 @@ def robot_geometry(target: Any, kind: str = "urdf", capsule_radius: float = 0.02
         rel = fdata.oMi[j].actInv(fdata.oMi[int(obj.parentJoint)]) * obj.placement
         geom = obj.geometry
         if isinstance(geom, coal.BVHModelBase):
-            geom.buildConvexHull(True, "Qt")
-            geom = geom.convex
+            geom = _hull(key, obj.name, geom)
         new = pin.GeometryObject(obj.name, 0 if a < 0 else reduced_ids[a], rel, geom)
         if obj.meshScale is not None:
             new.meshScale = obj.meshScale
@@ -104,6 +106,17 @@ def robot_geometry(target: Any, kind: str = "urdf", capsule_radius: float = 0.02
     return RobotGeometry(
         out, np.array(body, dtype=np.int64), np.array(reach), "urdf", tuple(links), moved_parents(target)
     )
+
+
+def _hull(key: tuple[Any, ...], name: str, mesh: Any) -> Any:
+    """The convex hull of a mesh (qhull), computed once per URDF file and shape (read-only, shared)."""
+    found = _HULLS.get((*key, name))
+    if found is None:
+        if len(_HULLS) > 10_000:
+            _HULLS.clear()
+        mesh.buildConvexHull(True, "Qt")
+        found = _HULLS[(*key, name)] = mesh.convex
+    return found
 
 
 def _reach(geom: Any, placement: Any) -> float:
