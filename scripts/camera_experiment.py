@@ -243,12 +243,31 @@ def main() -> None:
 
 
 def table(args: argparse.Namespace) -> None:
-    """Print the seeds' results."""
-    files = sorted(Path(args.out).glob("learn_seed*_m*.json"))
-    rows = [json.loads(f.read_text()) for f in files]
-    for r in rows:
-        print(r["seed"], r["movements"], {k: (r[k] if not isinstance(r[k], dict) else
-              {a: b for a, b in r[k].items() if a != "curve"}) for k in r})  # fmt: skip
+    """Markdown rows of docs/CAMERA.md's table: one per seed and kind of run, then the medians."""
+
+    def cell(values: list[float]) -> str:
+        return f"{np.median(values):.2f}" + (
+            f" ({min(values):.2f}-{max(values):.2f})" if len(values) > 1 else ""
+        )
+
+    for kind, key in (("perfect", "perfect"), ("learn", "camera")):
+        groups: dict[int, list[dict]] = {}
+        for f in sorted(Path(args.out).glob(f"{kind}_seed*_m*.json")):
+            row = json.loads(f.read_text())
+            groups.setdefault(row["movements"], []).append(row)
+        for movements, rows in sorted(groups.items()):
+            runs = [r[key] for r in rows]
+            fb_cam = [r.get("feedback_camera_mm", r["feedback_mm"]) for r in runs] if key == "perfect" else [
+                r["feedback_mm"] for r in runs]  # fmt: skip
+            fb_perfect = [r["feedback_mm"] for r in runs] if key == "perfect" else []
+            print(
+                f"| {'perfect readings' if key == 'perfect' else 'the tracker'} | "
+                f"{', '.join(str(r['seed']) for r in rows)} | {movements} | "
+                f"{cell([r['open_mm'] for r in runs])} | {cell(fb_perfect) if fb_perfect else '-'} | "
+                f"{cell(fb_cam)} | "
+                f"{cell([r['urdf_exact_pose']['median_mm'] for r in rows])} | "
+                f"{cell([r['urdf_pose_off']['median_mm'] for r in rows])} |"
+            )
 
 
 if __name__ == "__main__":

@@ -123,3 +123,40 @@ def test_capsules_when_meshes_are_off() -> None:
     assert plant.scene.triangles == 0
     tracker = ArucoTracker(plant.camera.intrinsics(), 0.025, marker_id=7)
     assert tracker(plant.read()) is not None
+
+
+def test_vertex_clustering_merges_vertices_on_the_grid_only() -> None:
+    from gb_pin.sim.meshes import decimate
+
+    rng = np.random.default_rng(0)
+    tri = rng.uniform(0, 0.1, (500, 3, 3))
+    v, f = decimate(tri, 1e-7)  # a grid far below the spacing: every triangle kept as it was
+    assert len(f) == 500 and np.allclose(v[f], tri, atol=1e-7)
+    v, f = decimate(tri, 0.02)  # coarse: vertices merged into cell means, degenerate triangles dropped
+    assert 0 < len(f) < 500 and len(v) <= 125
+    assert np.all((f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2]))
+
+
+def test_stl_round_trip(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from gb_pin.sim.meshes import read_stl, stl_bytes
+
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    f = np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
+    (tmp_path / "m.stl").write_bytes(stl_bytes(v, f))
+    assert np.array_equal(read_stl(tmp_path / "m.stl"), v[f])
+    (tmp_path / "a.stl").write_text("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                    "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n")  # fmt: skip
+    assert read_stl(tmp_path / "a.stl").shape == (1, 3, 3)
+
+
+def test_camera_pose_axes_and_projection() -> None:
+    from gb_pin.sim.scene import CameraPose
+
+    pose = CameraPose((0.0, -0.5, 0.2), (0.0, 0.0, 0.2))
+    R = pose.rotation
+    assert np.allclose(R.T @ R, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0)
+    assert np.allclose(pose.to_camera([0.0, 0.0, 0.2]), [0, 0, 0.5])  # the look-at point: on the axis
+    assert pose.to_camera([0.0, 0.0, 0.3])[1] < 0  # up in the world is up (-y) in the picture
+    assert np.isclose(pose.focal, 240 / np.tan(np.radians(22.5)))
+    moved = pose.moved([0.01, 0, 0], np.eye(3))
+    assert np.allclose(moved.to_camera([0.0, 0.0, 0.2]), [-0.01, 0, 0.5])

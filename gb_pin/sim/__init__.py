@@ -19,7 +19,9 @@ Modules, one concept each:
 - :mod:`~gb_pin.sim.equilibrium`: the resting posture under a command (the plant's true body);
 - :mod:`~gb_pin.sim.snapshot`: the plant's state in session checkpoints;
 - :mod:`~gb_pin.sim.spec`: plants named by strings (``"so101@mujoco:kp=10"``);
-- :mod:`~gb_pin.sim.dependency`: the MuJoCo check.
+- :mod:`~gb_pin.sim.scene`, :mod:`~gb_pin.sim.meshes`, :mod:`~gb_pin.sim.camera`, :mod:`~gb_pin.sim.gl`:
+  what a camera sees (decimated meshes, the marker plate, the camera pose), rendering it offscreen;
+- :mod:`~gb_pin.sim.dependency`: the MuJoCo check (and MUJOCO_GL=egl without a display).
 """
 
 from __future__ import annotations
