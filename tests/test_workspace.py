@@ -194,3 +194,17 @@ def test_reproduce_workspace_writes_table_and_figure(tmp_path: Path) -> None:
     assert Condition("panda", 0.5, 3).key.startswith("panda_f0.5_s3_")
     with pytest.raises(gb_pin.InvalidArgumentError):
         run_workspace(str(tmp_path), robots=("so102",), seeds=1)
+
+
+def test_a_robot_given_as_a_function_learns_a_region_and_reports_its_errors() -> None:
+    """FunctionTarget: the region drawn one posture at a time, the errors by its own forward model."""
+
+    def forward(q: np.ndarray) -> np.ndarray:
+        return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])
+
+    arm = gb_pin.FunctionTarget(forward, home=[0.3, 0.8], lower=[-2, -2], upper=[2, 2])
+    run = gb_pin.babble(arm, movements=30, seed=0, targets="workspace:fraction=0.5")
+    assert run.targets.shape == (300, 2) and run.config.learning_rate == REGION_LEARNING_RATE
+    assert run.workspace_errors().mean == pytest.approx(run.error)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="no forward model"):
+        gb_pin.babble_session(gb_pin.ExternalRobot.from_preset("so101"), movements=5, targets="workspace")

@@ -165,12 +165,14 @@ def region_points(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDArra
     """Hand positions of :func:`region_postures` (N, n) [m]: reachable by construction."""
     model = _model(robot)
     Q = region_postures(robot, fraction, u)
-    try:
+    if getattr(model, "chain", None) is not None:  # compiled kinematics: all postures at once
         X = np.asarray(model.forward(Q), dtype=float)
-        if X.ndim != 2 or X.shape[0] != Q.shape[0]:
-            raise ValueError
-    except (ValueError, TypeError):  # a forward model of one posture at a time
+    else:  # a forward model given as a function: one posture at a time, as babble() calls it
         X = np.array([np.asarray(model.forward(q), dtype=float) for q in Q])
+    if X.ndim != 2 or X.shape[0] != Q.shape[0]:
+        raise InvalidArgumentError(
+            f"the forward kinematics gave positions of shape {X.shape} for {Q.shape[0]} postures"
+        )
     if not np.all(np.isfinite(X)):
         raise InvalidArgumentError("the forward kinematics gave non-finite positions in the workspace region")
     return X

@@ -127,14 +127,18 @@ def scaled_sigma(target: Any, L: float, gain: float = 1.0) -> float | None:
     The cap is onboarding's (:func:`~gb_pin.robot.onboarding.exploration_sigma`) for a goal set of
     half-width L / (2 sqrt(n)); a robot without a compiled chain gets ``gain`` times Eq. 12's.
     """
-    model = target if hasattr(target, "chain") else getattr(target, "target", None)
+    model = target if getattr(target, "chain", None) is not None else getattr(target, "target", None)
     home = getattr(model, "home", getattr(target, "home", None))
     if home is None:
         return None
     m = int(np.asarray(home).shape[0])
     paper = gain * default_sigma(m)
-    if model is None or not hasattr(model, "chain"):
-        return paper
+    if (
+        model is None
+        or getattr(model, "chain", None) is None
+        or getattr(model.chain, "components", None) is not None
+    ):
+        return paper  # no compiled chain (a function), or a stacked task: Eq. 12's
     from gb_pin.robot.onboarding import exploration_sigma
 
     n = int(model.n_task)
