@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -58,6 +59,11 @@ def test_region_postures_are_uniform_windows_around_home_within_the_limits() -> 
         assert np.all(np.mean(np.isclose(Q, arm.lower) | np.isclose(Q, arm.upper), axis=0) < 0.01)
         inside = (Q.min(axis=0) <= arm.home) & (arm.home <= Q.max(axis=0))
         assert inside.all()
+    # a joint with more than a turn of range (the xArm7's +-2 pi) or none counts as one turn
+    wide = SimpleNamespace(home=np.zeros(3), lower=np.array([-2 * np.pi, -np.inf, -1.0]),
+                           upper=np.array([2 * np.pi, np.inf, 1.0]), forward=lambda q: q)  # fmt: skip
+    Q = region_postures(wide, 0.5, u[:, :3])
+    np.testing.assert_allclose(Q.max(axis=0) - Q.min(axis=0), [np.pi, np.pi, 1.0], rtol=0.01)
 
 
 def test_region_points_goals_tests_and_curriculum_blocks() -> None:
