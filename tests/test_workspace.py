@@ -14,6 +14,7 @@ from gb_pin.cli import main
 from gb_pin.learn.config import default_sigma
 from gb_pin.learn.goals import CurriculumGoals, make_goals
 from gb_pin.learn.goals.curriculum import stage_of
+from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.learn.reach_errors import ReachErrors
 from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec, region_postures
 from gb_pin.runs.scaling import RADIUS_SHARE, REGION_LEARNING_RATE, REGION_SIGMA_GAIN, scaled_sigma
@@ -129,6 +130,7 @@ def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points()
     assert 0.5 < L < 0.7  # the SO-101's region f = 0.5 (docs/WORKSPACE.md: 0.60 m)
     assert run.config.radius == pytest.approx(RADIUS_SHARE * L)
     assert run.config.learning_rate == REGION_LEARNING_RATE
+    np.testing.assert_array_equal(run.history.movements, evaluation_schedule(60, 100, 20))
     assert run.config.sigma == pytest.approx(scaled_sigma(run.target, L, REGION_SIGMA_GAIN))
     assert run.config.sigma <= REGION_SIGMA_GAIN * default_sigma(run.target.n_joints) + 1e-12
     assert run.goals is not None and "CurriculumGoals" in run.goals
