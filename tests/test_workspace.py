@@ -214,5 +214,7 @@ def test_a_robot_given_as_a_function_learns_a_region_and_reports_its_errors() ->
     run = gb_pin.babble(arm, movements=30, seed=0, targets="workspace:fraction=0.5")
     assert run.targets.shape == (300, 2) and run.config.learning_rate == REGION_LEARNING_RATE
     assert run.workspace_errors().mean == pytest.approx(run.error)
+    session = gb_pin.babble_session("so101", movements=5, seed=0, targets="workspace:fraction=0.5")
+    assert session.state.eval_targets.shape == (300, 3) and session.state.config.learning_rate == 0.5
     with pytest.raises(gb_pin.InvalidArgumentError, match="no forward model"):
         gb_pin.babble_session(gb_pin.ExternalRobot.from_preset("so101"), movements=5, targets="workspace")
