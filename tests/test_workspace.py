@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from gb_pin.cli import main
 from gb_pin.learn.config import default_sigma
 from gb_pin.learn.goals import CurriculumGoals, make_goals
 from gb_pin.learn.goals.curriculum import stage_of
+from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.learn.reach_errors import ReachErrors
 from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec, region_postures
 from gb_pin.runs.scaling import RADIUS_SHARE, REGION_LEARNING_RATE, REGION_SIGMA_GAIN, scaled_sigma
@@ -58,6 +60,11 @@ def test_region_postures_are_uniform_windows_around_home_within_the_limits() -> 
         assert np.all(np.mean(np.isclose(Q, arm.lower) | np.isclose(Q, arm.upper), axis=0) < 0.01)
         inside = (Q.min(axis=0) <= arm.home) & (arm.home <= Q.max(axis=0))
         assert inside.all()
+    # a joint with more than a turn of range (the xArm7's +-2 pi) or none counts as one turn
+    wide = SimpleNamespace(home=np.zeros(3), lower=np.array([-2 * np.pi, -np.inf, -1.0]),
+                           upper=np.array([2 * np.pi, np.inf, 1.0]), forward=lambda q: q)  # fmt: skip
+    Q = region_postures(wide, 0.5, u[:, :3])
+    np.testing.assert_allclose(Q.max(axis=0) - Q.min(axis=0), [np.pi, np.pi, 1.0], rtol=0.01)
 
 
 def test_region_points_goals_tests_and_curriculum_blocks() -> None:
@@ -123,6 +130,7 @@ def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points()
     assert 0.5 < L < 0.7  # the SO-101's region f = 0.5 (docs/WORKSPACE.md: 0.60 m)
     assert run.config.radius == pytest.approx(RADIUS_SHARE * L)
     assert run.config.learning_rate == REGION_LEARNING_RATE
+    np.testing.assert_array_equal(run.history.movements, evaluation_schedule(60, 100, 20))
     assert run.config.sigma == pytest.approx(scaled_sigma(run.target, L, REGION_SIGMA_GAIN))
     assert run.config.sigma <= REGION_SIGMA_GAIN * default_sigma(run.target.n_joints) + 1e-12
     assert run.goals is not None and "CurriculumGoals" in run.goals
@@ -194,3 +202,19 @@ def test_reproduce_workspace_writes_table_and_figure(tmp_path: Path) -> None:
     assert Condition("panda", 0.5, 3).key.startswith("panda_f0.5_s3_")
     with pytest.raises(gb_pin.InvalidArgumentError):
         run_workspace(str(tmp_path), robots=("so102",), seeds=1)
+
+
+def test_a_robot_given_as_a_function_learns_a_region_and_reports_its_errors() -> None:
+    """FunctionTarget: the region drawn one posture at a time, the errors by its own forward model."""
+
+    def forward(q: np.ndarray) -> np.ndarray:
+        return np.array([np.cos(q[0]) + np.cos(q[0] + q[1]), np.sin(q[0]) + np.sin(q[0] + q[1])])
+
+    arm = gb_pin.FunctionTarget(forward, home=[0.3, 0.8], lower=[-2, -2], upper=[2, 2])
+    run = gb_pin.babble(arm, movements=30, seed=0, targets="workspace:fraction=0.5")
+    assert run.targets.shape == (300, 2) and run.config.learning_rate == REGION_LEARNING_RATE
+    assert run.workspace_errors().mean == pytest.approx(run.error)
+    session = gb_pin.babble_session("so101", movements=5, seed=0, targets="workspace:fraction=0.5")
+    assert session.state.eval_targets.shape == (300, 3) and session.state.config.learning_rate == 0.5
+    with pytest.raises(gb_pin.InvalidArgumentError, match="no forward model"):
+        gb_pin.babble_session(gb_pin.ExternalRobot.from_preset("so101"), movements=5, targets="workspace")

@@ -206,3 +206,17 @@ def draw_snapshots(
     axes[0].set_ylabel("y [m]")
     fig.suptitle(title)
     return save_figure(fig, out, name, formats)
+
+
+def log_norm(vmin: float, vmax: float) -> Any:
+    """A logarithmic colour scale from ``vmin`` to ``vmax`` (``matplotlib.colors.LogNorm``)."""
+    from matplotlib.colors import LogNorm
+
+    return LogNorm(vmin=vmin, vmax=vmax)
+
+
+def no_minor_ticks(axis: Any) -> None:
+    """Remove the minor ticks of one axis (``ax.xaxis``), e.g. when its major ticks are set by hand."""
+    from matplotlib.ticker import NullLocator
+
+    axis.set_minor_locator(NullLocator())

@@ -115,9 +115,29 @@ def study_conditions(robot: Any, movements: int) -> list[tuple[str, Condition, i
         params: dict[str, Any] = {"goals": goals, "eval_targets": sets["test"].tolist()}
         if goal_set == "O":
             params["targets"] = sets["O"].tolist()
+            params.update(_own_settings(robot))  # the study's settings, not scaled to O (runs/scaling.py)
         cond = Condition(robot=robot, parameters=params, movements=movements, schedule=schedule(movements))
         out.append((label, cond, trials))
     return out
+
+
+def _own_settings(robot: Any) -> dict[str, float]:
+    """The robot's own radius and sigma (its preset's or onboarding's, else the paper's), given explicitly.
+
+    A target array given to ``babble`` scales the settings not given to its extent
+    (:mod:`gb_pin.runs.scaling`); the oversized set O measures the goal generators with the robot's
+    own settings, as docs/GOALS.md did before that rule.
+    """
+    from gb_pin.learn.config import BY_NAME, default_sigma
+    from gb_pin.runs.setup import resolve_robot
+
+    target, _, defaults = resolve_robot(robot)
+    sigma = defaults.get("sigma")
+    radius: Any = defaults.get("radius", BY_NAME["radius"].default)
+    return {
+        "radius": float(radius),
+        "sigma": float(default_sigma(target.n_joints) if sigma is None else sigma),
+    }
 
 
 def _cache_file(out: str, label: str, cond: Condition, trials: int, seed: int) -> str:

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from gb_pin.reproduce.figures import new_figure, save_figure
+from gb_pin.reproduce.figures import log_norm, new_figure, no_minor_ticks, save_figure
 
 SHOWN_FRACTION = 0.5
 SHOWN_COUNT = "10000"
@@ -63,9 +63,6 @@ def draw_robot(
     rows: Sequence[dict[str, Any]], robot: str, out: str, formats: Sequence[str] = ("png",)
 ) -> list[str]:
     """Top view, side view (test points coloured by error) and the curves of one robot; returns the files."""
-    from matplotlib.colors import LogNorm
-    from matplotlib.ticker import NullLocator
-
     groups = {f: g for (r, f), g in _groups(rows).items() if r == robot}
     fig = new_figure(13.5, 4.2)
     ax_top, ax_side, ax_curve = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1, 1.15]})
@@ -77,7 +74,7 @@ def draw_robot(
     e = np.asarray(shown["snapshots"][at]["errors"]) * 1000
     home = np.asarray(shown["home_position"])
     order = np.argsort(e)  # the worst points drawn last, on top
-    norm = LogNorm(vmin=1.0, vmax=100.0)
+    norm = log_norm(1.0, 100.0)
     for ax, (i, j), title in ((ax_top, (0, 1), "top view (x, y)"), (ax_side, (0, 2), "side view (x, z)")):
         colour = np.clip(e[order], 1.0, 100.0)
         sc = ax.scatter(
@@ -105,7 +102,7 @@ def draw_robot(
     ax_curve.set_yscale("log")
     shown_counts = sorted({int(k) for g in rows for k in g["snapshots"]})
     ax_curve.set_xticks(shown_counts, [f"{c:,}" for c in shown_counts])
-    ax_curve.xaxis.set_minor_locator(NullLocator())
+    no_minor_ticks(ax_curve.xaxis)
     ax_curve.set_xlabel("movements")
     ax_curve.set_ylabel("reach error on the test points [mm]")
     ax_curve.grid(alpha=0.3, which="both")

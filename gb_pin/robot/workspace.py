@@ -148,14 +148,15 @@ def region_postures(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDAr
 
     Joint i's window has width w_i = fraction (upper_i - lower_i), centred on home_i and shifted
     inside the limits where it would cross one (so that no posture piles up at a limit); an
-    unbounded joint counts as a range of 2 pi there. q_i = low_i + w_i u_i.
+    unbounded joint, or one whose range exceeds a turn (xArm7's +-2 pi), counts as a range of 2 pi
+    there. q_i = low_i + w_i u_i.
     """
     model = _model(robot)
     home = np.asarray(model.home, dtype=float)
     lower = np.asarray(model.lower, dtype=float)
     upper = np.asarray(model.upper, dtype=float)
     span = np.where(np.isfinite(upper - lower), upper - lower, 2.0 * _UNBOUNDED)
-    width = fraction * span
+    width = fraction * np.minimum(span, 2.0 * _UNBOUNDED)  # a range beyond one turn adds no postures
     low = np.maximum(np.minimum(home - width / 2.0, upper - width), lower)
     low = np.where(np.isfinite(low), low, home - width / 2.0)
     return np.clip(low + width * u, lower, upper)
@@ -165,12 +166,14 @@ def region_points(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDArra
     """Hand positions of :func:`region_postures` (N, n) [m]: reachable by construction."""
     model = _model(robot)
     Q = region_postures(robot, fraction, u)
-    try:
+    if getattr(model, "chain", None) is not None:  # compiled kinematics: all postures at once
         X = np.asarray(model.forward(Q), dtype=float)
-        if X.ndim != 2 or X.shape[0] != Q.shape[0]:
-            raise ValueError
-    except (ValueError, TypeError):  # a forward model of one posture at a time
+    else:  # a forward model given as a function: one posture at a time, as babble() calls it
         X = np.array([np.asarray(model.forward(q), dtype=float) for q in Q])
+    if X.ndim != 2 or X.shape[0] != Q.shape[0]:
+        raise InvalidArgumentError(
+            f"the forward kinematics gave positions of shape {X.shape} for {Q.shape[0]} postures"
+        )
     if not np.all(np.isfinite(X)):
         raise InvalidArgumentError("the forward kinematics gave non-finite positions in the workspace region")
     return X

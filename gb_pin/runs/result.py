@@ -158,7 +158,12 @@ class BabbleResult:
         """
         from gb_pin.learn.reach_errors import ReachErrors
 
-        return ReachErrors.of(self.task_errors().total)
+        if getattr(self.target, "chain", None) is not None:
+            return ReachErrors.of(self.task_errors().total)
+        # a robot given as a forward function: its own forward model, one posture at a time
+        postures = np.clip(self.model.predict(self.targets, warn=False), self.target.lower, self.target.upper)
+        reached = np.array([np.asarray(self.target.forward(q), dtype=float) for q in postures])
+        return ReachErrors.of(np.linalg.norm(reached - self.targets, axis=1))
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the result to one ``.npz`` file (no pickle); see :func:`gb_pin.load_result`."""

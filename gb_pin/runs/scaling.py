@@ -40,12 +40,14 @@ import numpy as np
 
 from gb_pin.learn.config import default_sigma
 from gb_pin.learn.goals import CurriculumGoals, DirectionGoals, make_goals
+from gb_pin.learn.metrics import evaluation_schedule
 from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec
 from gb_pin.runs.spec import RunSpec
 
 RADIUS_SHARE = 0.08  # prototype radius d, a share of the goal set's extent L
 REGION_SIGMA_GAIN = 2.0  # sigma of a workspace region: this times Eq. 12's (capped)
 DIRECTION_SHARE = 0.1  # direction sampling's step D, a share of L
+REGION_DENSE = 100  # a region's E^X is recorded after every movement up to this count, then 20 per decade
 REGION_LEARNING_RATE = 0.5  # eta of a workspace region (measured, docs/WORKSPACE.md)
 
 
@@ -73,6 +75,10 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
             changes["goals"] = f"curriculum:stages={region.stages}"
         if spec.eval_targets is None:
             changes["eval_targets"] = region.test_set(target)
+        if spec.schedule is None:  # 300 test points over a large map: the paper's dense schedule costs 3x
+            changes["schedule"] = evaluation_schedule(
+                int(spec.movements), dense_until=REGION_DENSE, per_decade=20
+            )
         L = extent(goals[-region.points :])
     elif spec.targets is None or spec.init is not None or _same(spec.targets, _own_targets(target)):
         return spec
@@ -127,14 +133,18 @@ def scaled_sigma(target: Any, L: float, gain: float = 1.0) -> float | None:
     The cap is onboarding's (:func:`~gb_pin.robot.onboarding.exploration_sigma`) for a goal set of
     half-width L / (2 sqrt(n)); a robot without a compiled chain gets ``gain`` times Eq. 12's.
     """
-    model = target if hasattr(target, "chain") else getattr(target, "target", None)
+    model = target if getattr(target, "chain", None) is not None else getattr(target, "target", None)
     home = getattr(model, "home", getattr(target, "home", None))
     if home is None:
         return None
     m = int(np.asarray(home).shape[0])
     paper = gain * default_sigma(m)
-    if model is None or not hasattr(model, "chain"):
-        return paper
+    if (
+        model is None
+        or getattr(model, "chain", None) is None
+        or getattr(model.chain, "components", None) is not None
+    ):
+        return paper  # no compiled chain (a function), or a stacked task: Eq. 12's
     from gb_pin.robot.onboarding import exploration_sigma
 
     n = int(model.n_task)
