@@ -15,7 +15,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 import gb_pin.cli.body_options as body_options
-from gb_pin.cli import camera_options
+import gb_pin.cli.camera_options as camera_options
 from gb_pin.cli.arm import add_arm_options
 from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (

@@ -110,10 +110,8 @@ class BabbleSession:
 
     def _guard_learning(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> Any:
         """The learner's asks are checked from where the robot is (after evaluation moves too)."""
-        held = q_from if self._held is None else self._held
-        cut = self.guard(held, q_to)
-        if cut is not None:
-            self.cuts += 1
+        cut = self.guard(q_from if self._held is None else self._held, q_to)
+        self.cuts += cut is not None
         return cut
 
     def _safe(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -325,9 +323,9 @@ class BabbleSession:
                 locks.enter_context(checkpoint_lock(where))
             try:
                 write_checkpoint(where, self.state, info)
-            except FileWriteError:
-                raise
             except OSError as exc:
+                if isinstance(exc, FileWriteError):
+                    raise
                 error = FileWriteError(f"cannot write the checkpoint {where!r}: {exc.strerror or exc}")
                 error.errno = exc.errno
                 raise error from exc
@@ -347,16 +345,14 @@ class BabbleSession:
         except (OSError, InvalidArgumentError) as exc:
             warnings.warn(
                 f"cannot write the checkpoint {os.fspath(self.checkpoint)!r} ({failure}) "
-                f"nor {where!r} ({exc}); "
-                "the session goes on, unsaved",
+                f"nor {where!r} ({exc}); the session goes on, unsaved",
                 GbPinWarning,
                 stacklevel=3,
             )
             return
         warnings.warn(
             f"cannot write the checkpoint {os.fspath(self.checkpoint)!r} ({failure}); "
-            f"writing it to {where!r} "
-            "from now on",
+            f"writing it to {where!r} from now on",
             GbPinWarning,
             stacklevel=3,
         )
