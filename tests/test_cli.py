@@ -158,6 +158,7 @@ def test_cli_imports_go_one_way() -> None:
             assert not any(m.startswith("gb_pin.cli") for m in _imports(path)), path
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_ik_solves_coordinates_and_csv_targets_and_rejects_bad_input(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     """`gb-pin ik run.npz X Y` and `--targets points.csv [--json]`; bad input: one error line, exit 2."""
     import json
