@@ -86,7 +86,6 @@ def shrink(text: str) -> str:
         (r"(--samples[ =])(\d+)", 20),
         (r"(--checkpoint-every[ =])(\d+)", 20),
         (r"(\bcheckpoint_every=)(\d+)", 20),
-        (r"(--crash-at[ =])(\d+)", 20),
     ):
         text = re.sub(pattern, _at_most(limit), text)
     return text
