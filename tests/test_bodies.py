@@ -87,6 +87,7 @@ def test_changes_in_babble_equal_init_on_the_changed_body() -> None:
     np.testing.assert_array_equal(changed.history.error[61:], after.history.error[1:])
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_resume_keeps_the_change_schedule(tmp_path: Path) -> None:
     """A checkpointed run with a body change, resumed with gb_pin.resume, ends as the uninterrupted run."""
     arm = gb_pin.load_robot("planar5")

@@ -329,6 +329,7 @@ def test_names_with_escape_bytes_are_printed_escaped(tmp_path: Path) -> None:
 
 
 # -- 9. messages -------------------------------------------------------------------------------------
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_a_compiled_forward_model_returning_nan_is_named_as_the_cause() -> None:
     from numba import njit
 

@@ -158,6 +158,7 @@ def _interrupted_run(tmp_path: Path, sig: int, delay: float) -> subprocess.Compl
 
 
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT])
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_cli_killed_and_resumed_equals_uninterrupted(tmp_path: Path, sig: int) -> None:
     """A CLI run killed with SIGKILL (or stopped with Ctrl-C) mid-run and resumed ends bit-identical."""
     subprocess.run([*_cli(*RUN, "--out", str(tmp_path / "a.npz"))], check=True, timeout=300)

@@ -57,8 +57,8 @@ def test_robots_lists_planar(capsys) -> None:  # type: ignore[no-untyped-def]
 def test_bad_input_exits_2_without_traceback(argv, needle) -> None:  # type: ignore[no-untyped-def]
     """A user mistake prints one error line naming the value and exits with status 2."""
     proc = subprocess.run(
-        [sys.executable, "-m", "gb_pin.cli", *argv, "--quiet"], capture_output=True, text=True, timeout=120
-    )
+        [sys.executable, "-m", "gb_pin.cli", *argv, "--quiet"], capture_output=True, text=True, timeout=600
+    )  # 600 s: under a load of 20 on two cores one such start took 124 s (issue 35)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert needle in proc.stderr
@@ -159,6 +159,7 @@ def test_cli_imports_go_one_way() -> None:
             assert not any(m.startswith("gb_pin.cli") for m in _imports(path)), path
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_ik_solves_coordinates_and_csv_targets_and_rejects_bad_input(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     """`gb-pin ik run.npz X Y` and `--targets points.csv [--json]`; bad input: one error line, exit 2."""
     import json

@@ -12,6 +12,7 @@ from gb_pin.cli import main
 from gb_pin.robot.plant import Plant
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_a_plant_run_saves_rebuilds_and_resumes_its_robot(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
     """--plant miscalibrated: missing readings counted; the file and the checkpoint rebuild the plant."""
     out, ckpt = tmp_path / "run.npz", tmp_path / "run.ckpt"
@@ -30,6 +31,7 @@ def test_a_plant_run_saves_rebuilds_and_resumes_its_robot(tmp_path: Path, capsys
     assert gb_pin.resume(ckpt).movements == 120  # the checkpoint rebuilds the plant alone
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_sensor_and_step_limit_options_reach_the_run(capsys) -> None:  # type: ignore[no-untyped-def]
     """--sensor noise=,loss=,seed= and --max-joint-step give the run babble() gives."""
     assert main(["babble", "--robot", "planar5", "--movements", "60", "--quiet", "--sensor",

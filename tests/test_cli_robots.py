@@ -69,6 +69,7 @@ def test_trials_take_a_model_robot_and_each_worker_rebuilds_it(tmp_path: Path, c
     np.testing.assert_array_equal(trials.error[0], run.history.error)
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_show_replay_plot_ik_bench_take_every_robot(tmp_path: Path, capsys: Any) -> None:
     """A robot loaded from code: plot needs no robot; show, replay, ik take --robot; bench takes a URDF."""
     module = tmp_path / "arm.py"

@@ -70,6 +70,7 @@ def test_unreachable_scheduler_is_a_clear_error(monkeypatch) -> None:  # type: i
         gb_pin.run_trials("planar3", trials=2, movements=3, scheduler=42)
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_cli_trials_scheduler_option(cluster, tmp_path) -> None:  # type: ignore[no-untyped-def]
     """`gb-pin trials --scheduler ADDRESS` runs on the cluster and writes the same JSON numbers as locally."""
     from gb_pin.cli import main

@@ -9,9 +9,12 @@ small, the same way for every block (:func:`shrink`): ``--movements N`` / ``move
 Lines a test machine cannot run are left out by rule: ``pip install`` (the test's environment has the
 extras), a venv prefix (``python3 -m venv .venv && .venv/bin/pip install ... &&``: the rest runs here),
 and commands that serve a browser until Ctrl-C (``--view``, ``gb-pin replay/show FILE`` without
-``--html``). A block that needs what a test machine lacks says so, and is skipped with that reason:
-``# needs: WHAT`` on its first line, or ``<!-- needs: WHAT -->`` on the line before its fence (invisible
-on the rendered page), e.g. ``browser``, ``a SLURM cluster``, ``a long run (...)``.
+``--html``) and those that cannot be made small (:data:`LONG`); commands whose defaults are long
+runs get small options appended (:data:`APPEND`); a line that ends with a status on purpose (the
+example's simulated crash) passes with that status (:data:`STATUS`). A block that needs what a test
+machine lacks says so, and is skipped with that reason: ``# needs: WHAT`` on its first line, or
+``<!-- needs: WHAT -->`` on the line before its fence (invisible on the rendered page), e.g.
+``browser``, ``a SLURM cluster``, ``a long run (...)``.
 
 New blocks (other pages, other sections) are picked up without any change here.
 """
@@ -83,12 +86,17 @@ def shrink(text: str) -> str:
         (r"(--samples[ =])(\d+)", 20),
         (r"(--checkpoint-every[ =])(\d+)", 20),
         (r"(\bcheckpoint_every=)(\d+)", 20),
-        (r"(--crash-at[ =])(\d+)", 20),
     ):
         text = re.sub(pattern, _at_most(limit), text)
     return text
 
 
+# Commands whose defaults are long runs get small options appended (argparse keeps the last value).
+APPEND = {"gb-pin bench --ik --protocol": "--movements 60 --paths 2"}
+# Commands that end with a status on purpose: the example's simulated crash (then --resume).
+STATUS = {"--crash-at": 3}
+# Commands that cannot be made small (a fixed schedule), left out like the serving ones.
+LONG = ("gb-pin reproduce hardware",)  # 10^4 movements per arm: its schedule's last snapshot
 VENV_PREFIX = re.compile(r"^python3 -m venv \.venv && \.venv/bin/pip install [^&]*&& ")
 SERVES = re.compile(r"(--view\b(?!-)|gb-pin (replay|show) \S+\s*($|#|--speed))")
 
@@ -98,11 +106,17 @@ def bash_lines(text: str) -> str:
     out = []
     for line in text.splitlines():
         line = VENV_PREFIX.sub("", line).replace(".venv/bin/", "")
-        code = line.split(" #", 1)[0]
-        if "pip install" in code or (SERVES.search(code) and "--html" not in code):
+        code, _, comment = line.partition(" #")
+        if "pip install" in code or (SERVES.search(code) and "--html" not in code) or code.startswith(LONG):
             out.append(f"# (left out by tests/test_docs.py) {line}")
-        else:
-            out.append(line)
+            continue
+        for command, options in APPEND.items():
+            if code.startswith(command):
+                line = f"{code.rstrip()} {options}" + (f"  #{comment}" if comment else "")
+        for option, status in STATUS.items():
+            if option in code:
+                line = f"{code.rstrip()} || [ $? -eq {status} ]" + (f"  #{comment}" if comment else "")
+        out.append(line)
     return "\n".join(out)
 
 
@@ -176,6 +190,14 @@ def test_shrink_and_rules() -> None:
     ).splitlines()
     assert [line.startswith("#") for line in text] == [True, False, True, True, True, False]
     assert text[-1] == "gb-pin babble --seed 0"
+    line = bash_lines("gb-pin bench --ik --protocol trac-ik --samples 20   # the protocol")
+    assert (
+        line == "gb-pin bench --ik --protocol trac-ik --samples 20 --movements 60 --paths 2  # the protocol"
+    )
+    assert bash_lines("gb-pin reproduce hardware --out x").startswith("#")
+    assert (
+        bash_lines("python x.py --crash-at 20  # then") == "python x.py --crash-at 20 || [ $? -eq 3 ]  # then"
+    )
 
 
 @pytest.mark.parametrize("block", BLOCKS, ids=[f"{b.page}:{b.line}" for b in BLOCKS])

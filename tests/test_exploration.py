@@ -75,6 +75,7 @@ def test_walk_keeps_variance_sigma2(sigma: float, sigma_delta: float) -> None:
     assert variance < 0.5 * (sigma**2 + (sigma**2 + 400 * sigma_delta**2))
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_walk_increments_are_small_and_correlation_is_rho() -> None:
     """Successive values have lag-1 correlation rho = sqrt(sigma^2 / (sigma^2 + sigma_delta^2)).
 

@@ -115,6 +115,7 @@ def test_malformed_urdf_prints_one_line_without_urdfdoms_stderr(tmp_path: Path, 
 
 
 @pytest.mark.parametrize("task", ["pose", "pointing"])
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_cli_task_for_a_model_robot(task: str, capsys: Any) -> None:
     """`--task pose|pointing` for one's own robot: the task vector's components are printed."""
     args = ["babble", "--robot", "erd:panda", "--frame", "panda_hand", "--task", task, "--movements", "20"]

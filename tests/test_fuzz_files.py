@@ -13,6 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 HARNESS = Path(__file__).with_name("fuzz_files.py")
 READERS = {"result", "result_urdf", "checkpoint", "session", "journal", "trials", "sweep", "points_csv",
            "points_npy", "ik_targets", "preset", "urdf", "plot_result", "plot_trials", "srdf",
@@ -23,6 +25,7 @@ CLASSES = {"0 mutations", "1 bounds", "2 integers", "3 wrong files", "4 failed w
            "17 disk"}  # fmt: skip
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_every_reader_and_every_class_answers_with_success_or_gb_pins_error(tmp_path: Path) -> None:
     """12 mutated files per reader and every quick targeted probe: no other outcome, none too slow or big."""
     proc = subprocess.run(

@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from gb_pin.reproduce.goals import goal_sets, goal_study, schedule
 
@@ -26,6 +27,7 @@ def test_schedule_reads_the_table_counts() -> None:
     assert {300, 1000, 3000, 10_000} <= set(schedule(10_000))
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_goal_study_writes_its_files_and_reads_its_cache(tmp_path: os.PathLike[str]) -> None:
     """Two trials of 20 movements on planar5: figure, JSON, CSV and table written; a rerun reads the cache."""
     out = os.fspath(tmp_path)

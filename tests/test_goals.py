@@ -171,6 +171,7 @@ def test_motor_postures_are_normal_around_home_within_the_limits() -> None:
 
 
 @pytest.mark.parametrize("goals", ["directions", "error", "progress", "motor", "uniform:snap=0.05"])
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_each_generator_is_deterministic_and_resumes_bit_identically(goals: str) -> None:
     runs = [
         gb_pin.babble("planar5", movements=300, seed=4, goals=goals, eval_targets=GRID6) for _ in range(2)

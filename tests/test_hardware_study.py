@@ -12,6 +12,7 @@ from gb_pin.cli import main
 from gb_pin.reproduce.hardware import SNAPSHOTS, Condition, conditions, run_hardware
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_one_arm_runs_caches_and_draws(tmp_path: Path) -> None:
     """A tiny study (1 SO-101, one tracker) writes table, csv, json and figure; a rerun reads the cache."""
     pytest.importorskip("matplotlib")

@@ -97,6 +97,7 @@ def test_task_jacobian_near_the_reference_and_at_it(pose, pointing) -> None:  # 
 
 
 @pytest.mark.parametrize("name", ["pose", "pointing", "bimanual"])
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_solver_jacobian_is_the_derivative_of_the_geometric_errors_at_the_goal(name: str, request) -> None:  # type: ignore[no-untyped-def]
     """With the goal at f(q): de/dq = -J (positions anywhere; rotations at the goal, where e = 0)."""
     target = request.getfixturevalue(name)

@@ -77,8 +77,6 @@ def draw_robot(rows: Sequence[dict[str, Any]], robot: str, out: str) -> list[str
     """
     import textwrap
 
-    from matplotlib.patches import Patch
-
     groups = {(n, p): g for (r, n, p), g in _groups(rows).items() if r == robot}
     noises = sorted({n for n, _ in groups})
     snapshots = sorted({int(k) for r in rows for k in r["open"]})
@@ -99,7 +97,7 @@ def draw_robot(rows: Sequence[dict[str, Any]], robot: str, out: str) -> list[str
         ax.axhline(1.0, color="k", lw=0.6, alpha=0.5)
     axes[0].set_ylabel("reach error on the true arm [mm]\n(median over the 27 test points; arms' median)")
     handles, labels = axes[0].get_legend_handles_labels()
-    handles.append(Patch(color="0.5", alpha=0.25, lw=0))
+    handles.append(axes[0].fill_between([], [], color="0.5", alpha=0.25, lw=0))  # the band's legend key
     labels.append(f"band: 25-75 % of the {arms} arms")
     fig.legend(
         handles, labels, loc="outside lower center", ncol=3 if len(noises) > 1 else 2, fontsize=8,
