@@ -4,11 +4,13 @@
 pairs of them its collision matrix keeps (:mod:`gb_pin.safety.matrix`) and the obstacles
 (:mod:`gb_pin.safety.obstacles`, checked against every shape that moves: the links fixed to the world,
 a base standing on the table, are not). A posture is safe when no checked pair comes within the
-clearance (coal's security margin). A straight joint-space segment is checked at postures so close
-that no point of the arm moves more than the clearance between two of them (a bound from the joints'
-lever arms), so a segment whose samples are safe never touches. Called as ``checker(q_from, q_to)``
-it is the guard of an ask/tell run (:class:`gb_pin.learn.asktell.AskTell`): None when the segment is
-safe, else the last safe posture, where the movement is cut short.
+clearance (coal's security margin); coal sees only the pairs whose bounding spheres come that close
+(:mod:`gb_pin.safety.broadphase`, compiled, all of a segment's samples at once). A straight
+joint-space segment is checked at postures so close that no point of the arm moves more than the
+clearance between two of them (a bound from the joints' lever arms), so a segment whose samples are
+safe never touches. Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
+(:class:`gb_pin.learn.asktell.AskTell`): None when the segment is safe, else the last safe posture,
+where the movement is cut short.
 """
 
 from __future__ import annotations
