@@ -287,6 +287,8 @@ def test_prefiltered_checks_give_coals_exact_verdicts_and_cuts(scene: str) -> No
     target = load_robot(setup.robot)
     checker = CollisionChecker(target, setup.obstacles, self_collision=True)
     Q = sample_postures(target.lower, target.upper, 180, seed=3)
+    assert checker._base is not None  # the fast configuration, the same as to_pinocchio's
+    assert all(np.array_equal(checker._configuration(q), target.to_pinocchio(q)) for q in Q[:20])
     verdicts = [checker.is_safe(q) for q in Q[:120]]
     assert verdicts == [_exact_safe(checker, q) for q in Q[:120]]
     assert 0 < sum(verdicts) < 120

@@ -174,6 +174,13 @@ class CollisionChecker:
             self._chain_of, self._centres, self._radii, self._pair_a, self._pair_b, self._kind, self._where,
             self._size,
         )  # fmt: skip
+        # the Pinocchio configuration of a posture: a scatter into the home configuration when every
+        # joint takes one entry (no continuous joint, written as cos and sin), else target.to_pinocchio
+        jids = [int(model.getJointId(j)) for j in self.target.joints]
+        self._base: NDArray[np.float64] | None = None
+        if all(int(model.joints[j].nq) == 1 for j in jids):
+            self._base = np.array(self.target.to_pinocchio(self.target.home), dtype=float)
+            self._idx_q = np.array([int(model.joints[j].idx_q) for j in jids], dtype=np.int64)
         chain = self.target.chain
         self._joints = chain.joints
         self._rot_ws = np.empty((chain.n_joints, 3, 3))
@@ -188,6 +195,14 @@ class CollisionChecker:
         )
         return out
 
+    def _configuration(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``target.to_pinocchio(q)``, without its Python loop where the joints allow."""
+        if self._base is None:
+            return np.asarray(self.target.to_pinocchio(q))
+        out = self._base.copy()
+        out[self._idx_q] = q
+        return out
+
     def _coal_safe(self, q: NDArray[np.float64], candidates: NDArray[np.bool_]) -> bool:
         """Whether coal finds none of ``candidates`` (a mask of the pairs) within the clearance at ``q``."""
         import pinocchio as pin
@@ -195,7 +210,7 @@ class CollisionChecker:
         (pairs,) = np.nonzero(candidates)
         if pairs.shape[0] == 0:
             return True
-        pin.forwardKinematics(self._model, self._data, self.target.to_pinocchio(q))
+        pin.forwardKinematics(self._model, self._data, self._configuration(q))
         pin.updateGeometryPlacements(self._model, self._data, self.collision_model, self._gdata)
         gm, gd = self.collision_model, self._gdata
         return not any(pin.computeCollision(gm, gd, int(p)) for p in pairs)
