@@ -44,6 +44,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/vector_math.py",
     "learn/weighting.py",
     "robot/reachability.py",
+    "safety/broadphase.py",
 )
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
 

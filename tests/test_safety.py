@@ -244,3 +244,63 @@ def test_srdf_disables_pairs_and_a_resumed_session_keeps_its_guard(tmp_path: Pat
     session.close()
     resumed = gb_pin.resume_session(tmp_path / "s.npz", guard=session.guard)
     assert resumed.guard is session.guard
+
+
+def _exact_safe(checker: CollisionChecker, q: np.ndarray) -> bool:
+    """Reference: coal on every checked pair (no prefilter), as the checker's pairs and clearance."""
+    import pinocchio as pin
+
+    gm, gd = checker.collision_model, checker.collision_model.createData()
+    for request in gd.collisionRequests:
+        request.security_margin = checker.clearance
+    data = checker.target.model.createData()
+    pin.computeCollisions(checker.target.model, data, gm, gd, checker.target.to_pinocchio(q), False)
+    return not any(r.isCollision() for r in gd.collisionResults)
+
+
+def _exact_cut(checker: CollisionChecker, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool, int]:
+    """Reference: the segment's samples one by one (the first version of ``cut``), each by coal alone.
+
+    Returns (last safe posture, whether the segment is safe, postures checked).
+    """
+    n = checker.samples(a, b)
+    last = a
+    for k in range(1, n + 1):
+        q = b if k == n else a + (k / n) * (b - a)
+        if not _exact_safe(checker, q):
+            return last, False, k
+        last = q
+    return b, True, n
+
+
+@pytest.mark.parametrize("scene", ["so101", "panda"])
+def test_prefiltered_checks_give_coals_exact_verdicts_and_cuts(scene: str) -> None:
+    """The compiled bounding-sphere prefilter drops no pair coal finds within the clearance.
+
+    120 random postures (about a third unsafe) and 60 segments from near-home postures (some cut),
+    against coal on every checked pair: the same verdicts, the same cut postures bit for bit, the
+    same count of postures checked.
+    """
+    from gb_pin.safety.scenarios import panda_scene, so101_scene
+
+    setup = so101_scene() if scene == "so101" else panda_scene()
+    target = load_robot(setup.robot)
+    checker = CollisionChecker(target, setup.obstacles, self_collision=True)
+    Q = sample_postures(target.lower, target.upper, 180, seed=3)
+    assert checker._base is not None  # the fast configuration, the same as to_pinocchio's
+    assert all(np.array_equal(checker._configuration(q), target.to_pinocchio(q)) for q in Q[:20])
+    verdicts = [checker.is_safe(q) for q in Q[:120]]
+    assert verdicts == [_exact_safe(checker, q) for q in Q[:120]]
+    assert 0 < sum(verdicts) < 120
+    home = np.asarray(target.home, dtype=float)
+    cuts = 0
+    for q0, q1 in itertools.pairwise(home + 0.3 * (Q[120:] - home)):
+        if not _exact_safe(checker, q0):
+            continue
+        before = checker.checks
+        got = checker.cut(q0, q1)
+        want = _exact_cut(checker, q0, q1)
+        assert got[1] == want[1] and np.array_equal(got[0], want[0])
+        assert checker.checks - before == want[2]
+        cuts += not want[1]
+    assert cuts > 0

@@ -4,11 +4,13 @@
 pairs of them its collision matrix keeps (:mod:`gb_pin.safety.matrix`) and the obstacles
 (:mod:`gb_pin.safety.obstacles`, checked against every shape that moves: the links fixed to the world,
 a base standing on the table, are not). A posture is safe when no checked pair comes within the
-clearance (coal's security margin). A straight joint-space segment is checked at postures so close
-that no point of the arm moves more than the clearance between two of them (a bound from the joints'
-lever arms), so a segment whose samples are safe never touches. Called as ``checker(q_from, q_to)``
-it is the guard of an ask/tell run (:class:`gb_pin.learn.asktell.AskTell`): None when the segment is
-safe, else the last safe posture, where the movement is cut short.
+clearance (coal's security margin); coal sees only the pairs whose bounding spheres come that close
+(:mod:`gb_pin.safety.broadphase`, compiled, all of a segment's samples at once). A straight
+joint-space segment is checked at postures so close that no point of the arm moves more than the
+clearance between two of them (a bound from the joints' lever arms), so a segment whose samples are
+safe never touches. Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
+(:class:`gb_pin.learn.asktell.AskTell`): None when the segment is safe, else the last safe posture,
+where the movement is cut short.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, UnsafeSetupError
+from gb_pin.safety.broadphase import BOX, SLACK, SPHERE, TABLE, Spheres, sphere_candidates
 from gb_pin.safety.geometry import RobotGeometry, robot_geometry
 from gb_pin.safety.matrix import DEFAULT_SAMPLES, CollisionMatrix, apply_srdf, cached_matrix
 from gb_pin.safety.obstacles import Box, Obstacle, Sphere, Table, check_obstacles
@@ -29,6 +32,8 @@ from gb_pin.safety.obstacles import Box, Obstacle, Sphere, Table, check_obstacle
 DEFAULT_CLEARANCE = 0.01
 """The default clearance [m] between checked shapes."""
 MAX_SEGMENT_SAMPLES = 10**5
+CHUNK = 32
+"""Samples of a segment prefiltered at once (most segments need a few; a cut stops at the first unsafe)."""
 
 
 def _coal_shape(obstacle: Obstacle) -> tuple[Any, Any]:
@@ -125,62 +130,90 @@ class CollisionChecker:
         self.cuts = 0  # segments cut short
 
     def _broadphase(self) -> None:
-        """Bounding spheres of the shapes and the checked pairs' indices.
+        """Bounding spheres of the shapes, the checked pairs and the obstacles, as the prefilter's arrays.
 
-        Only the pairs whose spheres come within the clearance go to coal.
+        Only the pairs whose spheres come within the clearance go to coal
+        (:func:`gb_pin.safety.broadphase.sphere_candidates`).
         """
         gm = self.collision_model
-        n = len(gm.geometryObjects)
-        self._centres = np.zeros((n, 3))
-        self._radii = np.zeros(n)
-        self._joint_of = np.zeros(n, dtype=np.int64)
+        k = len(self.geometry.body)
+        self._centres = np.zeros((k, 3))
+        self._radii = np.zeros(k)
+        model = self._model
+        moved = sorted(int(model.getJointId(j)) for j in self.target.joints)  # the chain's joint order
+        self._chain_of = np.full(k, -1, dtype=np.int64)
         for s, obj in enumerate(gm.geometryObjects):
             geom = obj.geometry
             geom.computeLocalAABB()
-            self._joint_of[s] = int(obj.parentJoint)
-            if obj.name.startswith("obstacle_"):
+            if s >= k:
                 continue
             self._centres[s] = obj.placement.act(np.asarray(geom.aabb_center))
             self._radii[s] = float(geom.aabb_radius)
+            if int(obj.parentJoint) != 0:
+                self._chain_of[s] = moved.index(int(obj.parentJoint))
         pairs = [(int(p.first), int(p.second)) for p in gm.collisionPairs]
         self._pair_a = np.array([a for a, _ in pairs], dtype=np.int64)
         self._pair_b = np.array([b for _, b in pairs], dtype=np.int64)
-        self._pair_obstacle = np.array([b >= len(self.geometry.body) for _, b in pairs])
-        self._joints_used = np.unique(self._joint_of[: len(self.geometry.body)])
-        self._slot = np.searchsorted(self._joints_used, self._joint_of[: len(self.geometry.body)])
-        # obstacles: their distance from a sphere's centre is computed in numpy (tables, boxes, spheres)
-        self._n_shapes = len(self.geometry.body)
+        n = len(self.obstacles)
+        self._kind = np.zeros(n, dtype=np.int64)
+        self._where = np.zeros((n, 3))
+        self._size = np.zeros((n, 3))
+        for o, obstacle in enumerate(self.obstacles):
+            if isinstance(obstacle, Table):
+                self._kind[o] = TABLE
+                self._where[o, 2] = obstacle.height
+            elif isinstance(obstacle, Box):
+                self._kind[o] = BOX
+                self._where[o] = obstacle.center
+                self._size[o] = obstacle.half_extents
+            else:
+                self._kind[o] = SPHERE
+                self._where[o] = obstacle.center
+                self._size[o, 0] = obstacle.radius
+        self._spheres = Spheres(
+            self._chain_of, self._centres, self._radii, self._pair_a, self._pair_b, self._kind, self._where,
+            self._size,
+        )  # fmt: skip
+        # the Pinocchio configuration of a posture: a scatter into the home configuration when every
+        # joint takes one entry (no continuous joint, written as cos and sin), else target.to_pinocchio
+        jids = [int(model.getJointId(j)) for j in self.target.joints]
+        self._base: NDArray[np.float64] | None = None
+        if all(int(model.joints[j].nq) == 1 for j in jids):
+            self._base = np.array(self.target.to_pinocchio(self.target.home), dtype=float)
+            self._idx_q = np.array([int(model.joints[j].idx_q) for j in jids], dtype=np.int64)
+        chain = self.target.chain
+        self._joints = chain.joints
+        self._rot_ws = np.empty((chain.n_joints, 3, 3))
+        self._pos_ws = np.empty((chain.n_joints, 3))
 
-    def _world_centres(self) -> NDArray[np.float64]:
-        oMi = self._data.oMi
-        placed = [oMi[int(j)] for j in self._joints_used]
-        R = np.array([p.rotation for p in placed])
-        t = np.array([p.translation for p in placed])
-        slot = self._slot
-        return np.einsum("sij,sj->si", R[slot], self._centres[: self._n_shapes]) + t[slot]
+    def _candidates(self, Q: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """(n, pairs): the checked pairs whose bounding spheres come within the clearance at each posture."""
+        Q = np.ascontiguousarray(Q, dtype=np.float64).reshape(-1, self.target.n_joints)
+        out = np.empty((Q.shape[0], self._pair_a.shape[0]), dtype=np.bool_)
+        sphere_candidates(
+            Q, self._joints, self._rot_ws, self._pos_ws, self._spheres, self.clearance + SLACK, out
+        )
+        return out
 
-    def _obstacle_distance(self, o: int, centres: NDArray[np.float64]) -> NDArray[np.float64]:
-        obstacle = self.obstacles[o]
-        if isinstance(obstacle, Table):
-            return centres[:, 2] - obstacle.height
-        if isinstance(obstacle, Box):
-            d = np.abs(centres - np.asarray(obstacle.center)) - np.asarray(obstacle.half_extents)
-            return np.linalg.norm(np.maximum(d, 0.0), axis=1)
-        return np.linalg.norm(centres - np.asarray(obstacle.center), axis=1) - obstacle.radius
+    def _configuration(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``target.to_pinocchio(q)``, without its Python loop where the joints allow."""
+        if self._base is None:
+            return np.asarray(self.target.to_pinocchio(q))
+        out = self._base.copy()
+        out[self._idx_q] = q
+        return out
 
-    def _candidates(self) -> NDArray[np.int64]:
-        """The checked pairs whose bounding spheres come within the clearance (after forward kinematics)."""
-        centres = self._world_centres()
-        k = self._n_shapes
-        gap = np.empty(len(self._pair_a))
-        selfp = ~self._pair_obstacle
-        a, b = self._pair_a[selfp], self._pair_b[selfp]
-        gap[selfp] = np.linalg.norm(centres[a] - centres[b], axis=1) - self._radii[a] - self._radii[b]
-        if self._pair_obstacle.any():
-            dist = np.stack([self._obstacle_distance(o, centres) for o in range(len(self.obstacles))])
-            a, b = self._pair_a[self._pair_obstacle], self._pair_b[self._pair_obstacle]
-            gap[self._pair_obstacle] = dist[b - k, a] - self._radii[a]
-        return np.nonzero(gap < self.clearance)[0]
+    def _coal_safe(self, q: NDArray[np.float64], candidates: NDArray[np.bool_]) -> bool:
+        """Whether coal finds none of ``candidates`` (a mask of the pairs) within the clearance at ``q``."""
+        import pinocchio as pin
+
+        (pairs,) = np.nonzero(candidates)
+        if pairs.shape[0] == 0:
+            return True
+        pin.forwardKinematics(self._model, self._data, self._configuration(q))
+        pin.updateGeometryPlacements(self._model, self._data, self.collision_model, self._gdata)
+        gm, gd = self.collision_model, self._gdata
+        return not any(pin.computeCollision(gm, gd, int(p)) for p in pairs)
 
     def _levers(self) -> NDArray[np.float64]:
         """Per joint: how far [m] a point of any shape it moves travels per unit of that joint's motion."""
@@ -217,16 +250,9 @@ class CollisionChecker:
     # -- checks ------------------------------------------------------------------------------
     def is_safe(self, q: ArrayLike) -> bool:
         """Whether posture ``q`` (m,) keeps every checked pair at least the clearance apart."""
-        import pinocchio as pin
-
         self.checks += 1
-        pin.forwardKinematics(self._model, self._data, self.target.to_pinocchio(q))
-        candidates = self._candidates()
-        if candidates.shape[0] == 0:
-            return True
-        pin.updateGeometryPlacements(self._model, self._data, self.collision_model, self._gdata)
-        gm, gd = self.collision_model, self._gdata
-        return not any(pin.computeCollision(gm, gd, int(p)) for p in candidates)
+        q = np.asarray(q, dtype=float)
+        return self._coal_safe(q, self._candidates(q)[0])
 
     def contacts(self, q: ArrayLike) -> list[tuple[str, str]]:
         """The checked pairs within the clearance at posture ``q``, by their shapes' names."""
@@ -254,11 +280,19 @@ class CollisionChecker:
         b = np.asarray(q_to, dtype=float)
         n = self.samples(a, b)
         last = a
-        for k in range(1, n + 1):
-            q = b if k == n else a + (k / n) * (b - a)
-            if not self.is_safe(q):
-                return last.copy(), False
-            last = q
+        for start in range(1, n + 1, CHUNK):
+            ks = np.arange(start, min(n, start + CHUNK - 1) + 1)
+            Q = a + (ks / n)[:, None] * (b - a)
+            if ks[-1] == n:
+                Q[-1] = b
+            candidates = self._candidates(Q)
+            # only the samples with close spheres go to coal: the others are safe
+            for i in np.flatnonzero(candidates.any(axis=1)):
+                if not self._coal_safe(Q[i], candidates[i]):
+                    self.checks += int(i) + 1
+                    return (Q[i - 1] if i > 0 else last).copy(), False
+            self.checks += len(ks)
+            last = Q[-1]
         return b.copy(), True
 
     def __call__(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> NDArray[np.float64] | None:
