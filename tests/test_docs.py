@@ -93,6 +93,9 @@ def shrink(text: str) -> str:
 
 # Commands whose defaults are long runs get small options appended (argparse keeps the last value).
 APPEND = {"gb-pin bench --ik --protocol": "--movements 60 --paths 2"}
+# Runs that state no length learn the default number of movements: they get a small one.
+RUNS = ("gb-pin babble", "gb-pin trials")
+RUN_LENGTH = re.compile(r"--(movements|resume|continue)\b")
 # Commands that end with a status on purpose: the example's simulated crash (then --resume).
 STATUS = {"--crash-at": 3}
 # Commands that cannot be made small (a fixed schedule), left out like the serving ones.
@@ -113,6 +116,8 @@ def bash_lines(text: str) -> str:
         for command, options in APPEND.items():
             if code.startswith(command):
                 line = f"{code.rstrip()} {options}" + (f"  #{comment}" if comment else "")
+        if code.startswith(RUNS) and not code.rstrip().endswith("\\") and not RUN_LENGTH.search(code):
+            line = f"{code.rstrip()} --movements {SMALL_MOVEMENTS}" + (f"  #{comment}" if comment else "")
         for option, status in STATUS.items():
             if option in code:
                 line = f"{code.rstrip()} || [ $? -eq {status} ]" + (f"  #{comment}" if comment else "")
@@ -183,6 +188,10 @@ def test_shrink_and_rules() -> None:
     assert shrink("gb-pin babble --movements 3000 --trials 10") == "gb-pin babble --movements 60 --trials 2"
     assert shrink("babble(robot, movements=10_000, trials=4)") == "babble(robot, movements=60, trials=2)"
     assert shrink("--movements 20") == "--movements 20"
+    assert bash_lines("gb-pin babble --robot so101 --table 0.0  # safe") == (
+        f"gb-pin babble --robot so101 --table 0.0 --movements {SMALL_MOVEMENTS}  # safe"
+    )
+    assert bash_lines("gb-pin babble --resume run.ckpt") == "gb-pin babble --resume run.ckpt"
     text = bash_lines(
         "gb-pin replay run.npz   # loops\ngb-pin replay run.npz --html r.html\ngb-pin babble --view\n"
         "gb-pin babble --view-pace 3 --out x.npz --view\npip install -e .\n"
