@@ -198,7 +198,7 @@ def test_shrink_and_rules() -> None:
         "python3 -m venv .venv && .venv/bin/pip install -e . && .venv/bin/gb-pin babble --seed 0"
     ).splitlines()
     assert [line.startswith("#") for line in text] == [True, False, True, True, True, False]
-    assert text[-1] == "gb-pin babble --seed 0"
+    assert text[-1] == f"gb-pin babble --seed 0 --movements {SMALL_MOVEMENTS}"
     line = bash_lines("gb-pin bench --ik --protocol trac-ik --samples 20   # the protocol")
     assert (
         line == "gb-pin bench --ik --protocol trac-ik --samples 20 --movements 60 --paths 2  # the protocol"
