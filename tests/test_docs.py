@@ -99,9 +99,9 @@ RUN_LENGTH = re.compile(r"--(movements|resume|continue)\b")
 # Commands that end with a status on purpose: the example's simulated crash (then --resume).
 STATUS = {"--crash-at": 3}
 # Commands that cannot be made small (a fixed schedule), left out like the serving ones.
-LONG = ("gb-pin reproduce hardware",)  # 10^4 movements per arm: its schedule's last snapshot
+LONG = ("gb-pin reproduce hardware", "gb-pin reproduce workspace")  # fixed schedules (10^4, 3000-3x10^4)
 VENV_PREFIX = re.compile(r"^python3 -m venv \.venv && \.venv/bin/pip install [^&]*&& ")
-SERVES = re.compile(r"(--view\b(?!-)|gb-pin (replay|show) \S+\s*($|#|--speed))")
+SERVES = re.compile(r"(--view\b(?!-)|--serve\b|gb-pin (replay|show) \S+\s*($|#|--speed))")
 
 
 def bash_lines(text: str) -> str:
