@@ -59,7 +59,11 @@ def _unstable(tmp: Path) -> None:
 
 
 @probe(
-    "plant", "11 plant", "time settings beyond their bounds, in Python and on the command line", seconds=60
+    "plant",
+    "11 plant",
+    "time settings beyond their bounds, in Python and on the command line",
+    seconds=60,
+    limit_mb=384,  # a gb-pin process with pinocchio, numba and MuJoCo loaded peaks at 260-300 MB
 )
 def _time_settings(tmp: Path) -> None:
     if not _mujoco():
@@ -247,7 +251,13 @@ def _outlier(tmp: Path) -> None:
     expect_error(run, "the reading [1000000. 1000000.]")
 
 
-@probe("cli", "9 messages", "--plant/--sensor: auto as --help shows it, repeated keys refused", seconds=90)
+@probe(
+    "cli",
+    "9 messages",
+    "--plant/--sensor: auto as --help shows it, repeated keys refused",
+    seconds=90,
+    limit_mb=384,  # (MuJoCo loaded, as above)
+)
 def _cli_keys(tmp: Path) -> None:
     done = cli(["babble", "--robot", "planar5", "--sensor", "noise=0.01,noise=0.02", "--movements", "5"], tmp)
     assert done.rc == 2 and "given twice" in done.err, done.err[-300:]
