@@ -37,7 +37,7 @@ class Probe:
     name: str
     run: Callable[[Path], Any]
     expect: str = "ok"
-    limit_mb: float = 256.0
+    limit_mb: float = 384.0  # a gb-pin process that loads pinocchio, numba and MuJoCo peaks near 260 MB
     seconds: float = 20.0
     owner: str = ""
     slow: bool = False
