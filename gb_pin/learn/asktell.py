@@ -37,6 +37,17 @@ Guard = Callable[[NDArray[np.float64], NDArray[np.float64]], "NDArray[np.float64
 EVALUATE_MODES = ("model", "movements", "none")
 
 
+def _real(value: Any, expected: str) -> NDArray[np.float64]:
+    """``value`` as float64, refusing complex, boolean and non-numeric input (``expected``, got ...)."""
+    try:
+        raw = np.asarray(value)
+        if raw.dtype.kind not in "fiu" or raw.dtype == np.bool_:
+            raise TypeError(f"dtype {raw.dtype}")
+        return np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(f"{expected}, got {value!r:.200}") from exc
+
+
 def reading(x: Any, n: int) -> NDArray[np.float64] | None:
     """An observation checked: a finite real (n,) vector [m], or None for a missing reading.
 
@@ -45,15 +56,7 @@ def reading(x: Any, n: int) -> NDArray[np.float64] | None:
     """
     if x is None:
         return None
-    try:
-        raw = np.asarray(x)
-        if raw.dtype.kind not in "fiu" or raw.dtype == np.bool_:
-            raise TypeError(f"dtype {raw.dtype}")
-        arr = np.asarray(raw, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(
-            f"x must be a real position of shape ({n},) [m] (or None: the reading is missing), got {x!r:.200}"
-        ) from exc
+    arr = _real(x, f"x must be a real position of shape ({n},) [m] (or None: the reading is missing)")
     if arr.shape != (n,) or not np.isfinite(arr).all():
         raise InvalidArgumentError(
             f"x must be a finite position of shape ({n},) [m] (or None: the reading is missing), got "
@@ -70,15 +73,7 @@ def posture(q: Any, m: int) -> NDArray[np.float64] | None:
     """
     if q is None:
         return None
-    try:
-        raw = np.asarray(q)
-        if raw.dtype.kind not in "fiu" or raw.dtype == np.bool_:
-            raise TypeError(f"dtype {raw.dtype}")
-        arr = np.asarray(raw, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(
-            f"executed must be a real posture of shape ({m},) (or None: the asked one), got {q!r:.200}"
-        ) from exc
+    arr = _real(q, f"executed must be a real posture of shape ({m},) (or None: the asked one)")
     if arr.shape != (m,) or not (np.abs(arr) <= layout.MAX_POSTURE).all():
         raise InvalidArgumentError(
             f"executed must be a finite posture of shape ({m},) (or None: the asked one), got "
