@@ -181,7 +181,7 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     _jacobian_of_prediction(lm, K, total, scratch)
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(cache=True, nogil=True, error_model="numpy")
 def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """dg/dx into ``scratch.J`` from the last prediction (u_k, activations, their sum, g in ``scratch.g``)."""
     M, U, act = lm.models, lm.inputs, lm.act

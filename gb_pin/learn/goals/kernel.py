@@ -43,18 +43,24 @@ def _family(goals: Any) -> type | None:
     return cls if cls in (DirectionArrays, SelectorArrays, MotorArrays) else None
 
 
-def next_goal(goals: Any, rng: Any, start: Any, out: Any) -> bool:
+@njit(cache=True, nogil=True, error_model="numpy")
+def next_goal(goals, rng, start, out):  # type: ignore[no-untyped-def]
     """Write the next goal into ``out`` (n,) for a built-in generator; False if Python must decide.
 
     ``UNIFORM``: a target drawn uniformly from X* (Sec. II-A, Eq. 3). ``CYCLIC``: the targets
     in their order (``istate[0]`` is the next index). ``DIRECTIONS``: ``start`` plus
     ``distance`` along a random unit direction. ``ERROR`` / ``PROGRESS``: a target chosen by
-    its score (:func:`_select`). Compiled code only (an overload per family).
+    its score (:func:`_select`). A kernel of its own (cached, so that a cold start can compile it
+    in another process, :mod:`gb_pin.runs.coldstart`) around the overload per family.
     """
-    raise TypeError("next_goal runs inside compiled code")
+    return _family_goal(goals, rng, start, out)
 
 
-@overload(next_goal, jit_options={"nogil": True, "error_model": "numpy"})
+def _family_goal(goals: Any, rng: Any, start: Any, out: Any) -> bool:
+    raise TypeError("_family_goal runs inside compiled code (see next_goal)")
+
+
+@overload(_family_goal, jit_options={"nogil": True, "error_model": "numpy"})
 def _next_goal(goals, rng, start, out):  # type: ignore[no-untyped-def]
     family = _family(goals)
     if family is DirectionArrays:
