@@ -4,8 +4,8 @@ The end-to-end test runs a warm-up in a fresh process with an empty NUMBA_CACHE_
 must start, the loop must have called every planned kernel with exactly the planned argument types
 (one specialisation each: the helper's cache entries are the loop's), the helper must be gone
 afterwards, and a run must give the same numbers as in this process. The others check the
-fall-backs: no helper without a writable cold cache, on one core, when switched off, or when it
-cannot start; and a helper whose parent is gone ends at once.
+fall-backs: no helper without a writable cold cache, on one core, on a busy machine, when switched
+off, or when it cannot start; and a helper whose parent is gone ends at once.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ print(json.dumps({
 
 def test_a_cold_start_compiles_in_two_processes_and_the_same_numbers_come_out(tmp_path: Path) -> None:
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "PYTHONPATH": str(ROOT)}
-    env.pop(coldstart.ENV, None)
+    env[coldstart.ENV] = "1"  # even on a busy machine
     out = subprocess.run(
         [sys.executable, "-c", _COLD], env=env, capture_output=True, text=True, timeout=900, check=False
     )
@@ -89,6 +89,19 @@ def test_switched_off(monkeypatch: pytest.MonkeyPatch, setting: str) -> None:
     monkeypatch.setenv(coldstart.ENV, setting)
     monkeypatch.setattr(coldstart, "cache_is_cold_and_writable", lambda: True)
     assert not coldstart.wanted()
+
+
+def test_a_busy_machine_starts_no_helper_unless_asked(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(coldstart.ENV, raising=False)
+    monkeypatch.setattr(coldstart, "cache_is_cold_and_writable", lambda: True)
+    monkeypatch.setattr(coldstart, "_cores", lambda: 2)
+    monkeypatch.setattr(coldstart.os, "getloadavg", lambda: (1.7, 1.0, 1.0))
+    assert not coldstart.wanted()
+    monkeypatch.setenv(coldstart.ENV, "1")
+    assert coldstart.wanted()
+    monkeypatch.setattr(coldstart.os, "getloadavg", lambda: (1.2, 1.0, 1.0))
+    monkeypatch.delenv(coldstart.ENV)
+    assert coldstart.wanted()
 
 
 def test_one_core_starts_no_helper(monkeypatch: pytest.MonkeyPatch) -> None:

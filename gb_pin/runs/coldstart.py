@@ -13,7 +13,9 @@ way: the same functions with the same options for the same argument types, compi
 numba; only the process that compiles them differs.
 
 The helper is stopped when the loop is compiled (or on an error, or Ctrl-C); it also stops by itself
-when its parent is gone. Without a writable cache, on one core, with a warm cache, or with
+when its parent is gone. Without a writable cache, on one core, with a warm cache, on a busy
+machine (a 1-minute load average above the cores less one half: the helper would only take CPU
+time from this process; ``GB_PIN_PARALLEL_COMPILE=1`` starts it anyway), or with
 ``GB_PIN_PARALLEL_COMPILE=0``, nothing is started and the loop compiles here alone as before.
 
 The argument types of each callee are those the loop passes (:func:`callee_signatures`, read from
@@ -143,11 +145,23 @@ def _cores() -> int:
         return os.cpu_count() or 1
 
 
+def _idle_core(cores: int) -> bool:
+    """Whether a core is free: the 1-minute load average below ``cores - 0.5`` (True if unknown)."""
+    try:
+        return os.getloadavg()[0] < cores - 0.5
+    except OSError:  # pragma: no cover - no load average on this system
+        return True
+
+
 def wanted() -> bool:
     """Whether a cold start here should compile in two processes (see the module's docstring)."""
-    if os.environ.get(ENV, "1").strip().lower() in ("0", "false", "no", "off"):
+    setting = os.environ.get(ENV, "").strip().lower()
+    if setting in ("0", "false", "no", "off"):
         return False
-    return _cores() >= 2 and cache_is_cold_and_writable()
+    cores = _cores()
+    if cores < 2 or not (setting in ("1", "true", "yes", "on") or _idle_core(cores)):
+        return False
+    return cache_is_cold_and_writable()
 
 
 def start_helper() -> subprocess.Popen[bytes] | None:
