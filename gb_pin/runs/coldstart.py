@@ -149,7 +149,7 @@ def _idle_core(cores: int) -> bool:
     """Whether a core is free: the 1-minute load average below ``cores - 0.5`` (True if unknown)."""
     try:
         return os.getloadavg()[0] < cores - 0.5
-    except OSError:  # pragma: no cover - no load average on this system
+    except (OSError, AttributeError):  # pragma: no cover - no load average on this system
         return True
 
 
