@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin.exceptions import InvalidArgumentError
+from gb_pin.learn.parts import MAX_PARTS
 
 PREFIX = "workspace"
 MAX_POINTS = 100_000  # goal or test points of one region (arrays of a few MB)
@@ -55,6 +56,8 @@ class WorkspaceRegion:
         test_points: test points (where E^X is measured).
         test_seed: seed of the test postures (another than ``seed``: points never learnt).
         stages: curriculum stages (1: none); stage s draws from ``fraction / 2^(stages - s)``.
+        parts: learners, one per sector around the first joint's axis, each with its own home and
+            map (:mod:`gb_pin.robot.workspace_parts`); 1: one learner for the whole region.
     """
 
     fraction: float = 0.5
@@ -63,6 +66,7 @@ class WorkspaceRegion:
     test_points: int = 300
     test_seed: int = 1
     stages: int = 3
+    parts: int = 1
 
     def __post_init__(self) -> None:
         f = self.fraction
@@ -70,7 +74,9 @@ class WorkspaceRegion:
             raise InvalidArgumentError(
                 f"workspace fraction must be in (0, 1] (the share of each joint's range), got {f!r}"
             )
-        for name, low, high in (("points", 1, MAX_POINTS), ("test_points", 1, MAX_POINTS), ("stages", 1, 8)):
+        bounds = (("points", 1, MAX_POINTS), ("test_points", 1, MAX_POINTS), ("stages", 1, 8),
+                  ("parts", 1, MAX_PARTS))  # fmt: skip
+        for name, low, high in bounds:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
                 raise InvalidArgumentError(
@@ -107,7 +113,13 @@ class WorkspaceRegion:
     def spec(self) -> str:
         """The spec string that :meth:`parse` reads back to this region."""
         return (
-            PREFIX + ":" + ",".join(f"{f.name}={getattr(self, f.name)!r}" for f in dataclasses.fields(self))
+            PREFIX
+            + ":"
+            + ",".join(
+                f"{f.name}={getattr(self, f.name)!r}"
+                for f in dataclasses.fields(self)
+                if f.name != "parts" or self.parts != 1  # the spec of a region of one learner reads as before
+            )
         )
 
     def stage_fractions(self) -> list[float]:
@@ -152,6 +164,14 @@ def region_postures(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDAr
     there. q_i = low_i + w_i u_i.
     """
     model = _model(robot)
+    low, width = window(robot, fraction)
+    lower, upper = np.asarray(model.lower, dtype=float), np.asarray(model.upper, dtype=float)
+    return np.clip(low + width * u, lower, upper)
+
+
+def window(robot: Any, fraction: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(low, width) (m,) each: the window of :func:`region_postures`, [low, low + width] per joint."""
+    model = _model(robot)
     home = np.asarray(model.home, dtype=float)
     lower = np.asarray(model.lower, dtype=float)
     upper = np.asarray(model.upper, dtype=float)
@@ -159,13 +179,17 @@ def region_postures(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDAr
     width = fraction * np.minimum(span, 2.0 * _UNBOUNDED)  # a range beyond one turn adds no postures
     low = np.maximum(np.minimum(home - width / 2.0, upper - width), lower)
     low = np.where(np.isfinite(low), low, home - width / 2.0)
-    return np.clip(low + width * u, lower, upper)
+    return low, width
 
 
 def region_points(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDArray[np.float64]:
     """Hand positions of :func:`region_postures` (N, n) [m]: reachable by construction."""
+    return forward_all(robot, region_postures(robot, fraction, u))
+
+
+def forward_all(robot: Any, Q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Hand positions of postures Q (N, m) -> (N, n) [m], checked finite."""
     model = _model(robot)
-    Q = region_postures(robot, fraction, u)
     if getattr(model, "chain", None) is not None:  # compiled kinematics: all postures at once
         X = np.asarray(model.forward(Q), dtype=float)
     else:  # a forward model given as a function: one posture at a time, as babble() calls it

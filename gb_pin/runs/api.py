@@ -162,6 +162,15 @@ def babble(
             targets, eval_targets, schedule, record, goals, changes, init, until_error, max_joint_step,
             sensor, reach_window, obstacles, self_collision, collision_geometry, clearance,
         )  # fmt: skip
+    region = _parted_region(spec.targets)
+    if region is not None:  # one learner per part of the region (gb_pin.runs.parted)
+        from gb_pin.runs.parted import babble_parted
+
+        if checkpoint is not None:
+            raise InvalidArgumentError(
+                f"a workspace region in parts (parts={region.parts}) writes no checkpoints: use parts=1"
+            )
+        return babble_parted(spec, region, callback=callback, viewer=viewer, observe_every=observe_every)
     run = setup.prepare(spec)
     if isinstance(run.target, ExternalRobot):
         raise InvalidArgumentError(
@@ -198,6 +207,16 @@ def babble(
             should_stop=interrupted,
         )
     return _continued(runner.result(learner, interrupted()), spec.init)
+
+
+def _parted_region(targets: Any) -> Any:
+    """The workspace region of ``targets`` if it is one in several parts, else None."""
+    from gb_pin.robot.workspace import WorkspaceRegion, is_workspace_spec
+
+    if not is_workspace_spec(targets):
+        return None
+    region = WorkspaceRegion.parse(str(targets))
+    return region if region.parts > 1 else None
 
 
 def _continued(result: BabbleResult, init: Any) -> BabbleResult:
