@@ -35,12 +35,16 @@ def _stat(group: Sequence[dict[str, Any]], at: str, key: str) -> np.ndarray:
 def table(rows: Sequence[dict[str, Any]]) -> str:
     """Markdown: per robot and fraction, over seeds, median (and range) of each run's median / 90 % [mm]."""
     snapshots = sorted({int(k) for r in rows for k in r["snapshots"]})
-    head = ["robot", "f", "seeds", "L [m]", "radius [m]"] + [f"@{s:,}: median / 90 % [mm]" for s in snapshots]
+    head = ["robot", "f", "seeds", "parts", "L [m]", "radius [m]"] + [
+        f"@{s:,}: median / 90 % [mm]" for s in snapshots
+    ]
     head += [f"@{snapshots[-1]:,}: within 1 cm / 2 mm", "K", "CPU s / run"]
     md = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for (robot, f), group in _groups(rows).items():
         radius = float(np.median([g["radius"] for g in group]))
-        cells = [robot, f"{f:g}", str(len(group)), f"{radius / 0.08:.2f}", f"{radius:.3f}"]
+        extent = float(np.median([g.get("extent", g["radius"] / 0.08) for g in group]))
+        parts = "/".join(str(p) for p in sorted({int(g.get("parts", 1)) for g in group}))
+        cells = [robot, f"{f:g}", str(len(group)), parts, f"{extent:.2f}", f"{radius:.3f}"]
         for s in snapshots:
             med, p90 = 1000 * _stat(group, str(s), "median"), 1000 * _stat(group, str(s), "p90")
             cells.append(f"{np.median(med):.2f} / {np.median(p90):.1f} "
@@ -54,7 +58,7 @@ def table(rows: Sequence[dict[str, Any]]) -> str:
     note = (
         "\nEach cell: the median over the seeds of each run's median / 90 % reach error on 300 test points "
         "of the region (never learnt), with the range over the seeds in brackets. L: the extent of the goal "
-        "region (diagonal of its 5-95 % box); radius 0.08 L.\n"
+        "region (diagonal of its 5-95 % box); parts: learners (parts=auto); K: prototypes of all parts.\n"
     )
     return "\n".join(md) + "\n" + note
 

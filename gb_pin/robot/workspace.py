@@ -38,6 +38,7 @@ PREFIX = "workspace"
 MAX_POINTS = 100_000  # goal or test points of one region (arrays of a few MB)
 _UNBOUNDED = math.pi  # half-width of the sampling interval of an unbounded joint [rad] or [m]
 EXTENT_LOW, EXTENT_HIGH = 5.0, 95.0  # the percentiles of the box whose diagonal is a set's extent L
+AUTO = 0  # parts=auto: chosen by gb_pin.robot.workspace_parts.auto_parts
 
 
 def is_workspace_spec(value: Any) -> bool:
@@ -57,16 +58,18 @@ class WorkspaceRegion:
         test_seed: seed of the test postures (another than ``seed``: points never learnt).
         stages: curriculum stages (1: none); stage s draws from ``fraction / 2^(stages - s)``.
         parts: learners, one per sector around the first joint's axis, each with its own home and
-            map (:mod:`gb_pin.robot.workspace_parts`); 1: one learner for the whole region.
+            map (:mod:`gb_pin.robot.workspace_parts`); 1: one learner for the whole region; 0
+            (``parts=auto``, the default): 2 where the region wraps around that axis (its goal
+            points span more than half a turn around it, :data:`AUTO_SPAN`), else 1.
     """
 
     fraction: float = 0.5
-    points: int = 300
+    points: int = 1000
     seed: int = 0
     test_points: int = 300
     test_seed: int = 1
     stages: int = 3
-    parts: int = 1
+    parts: int = AUTO
 
     def __post_init__(self) -> None:
         f = self.fraction
@@ -75,7 +78,7 @@ class WorkspaceRegion:
                 f"workspace fraction must be in (0, 1] (the share of each joint's range), got {f!r}"
             )
         bounds = (("points", 1, MAX_POINTS), ("test_points", 1, MAX_POINTS), ("stages", 1, 8),
-                  ("parts", 1, MAX_PARTS))  # fmt: skip
+                  ("parts", AUTO, MAX_PARTS))  # fmt: skip
         for name, low, high in bounds:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
@@ -104,6 +107,9 @@ class WorkspaceRegion:
                 raise InvalidArgumentError(
                     f"targets={text!r}: expected key=value with a key of {', '.join(names)}, got {item!r}"
                 )
+            if key == "parts" and value == "auto":
+                values[key] = AUTO
+                continue
             try:
                 values[key] = float(value) if key == "fraction" else int(value)
             except ValueError as exc:
@@ -118,7 +124,7 @@ class WorkspaceRegion:
             + ",".join(
                 f"{f.name}={getattr(self, f.name)!r}"
                 for f in dataclasses.fields(self)
-                if f.name != "parts" or self.parts != 1  # the spec of a region of one learner reads as before
+                if f.name != "parts" or self.parts != AUTO  # the default's spec reads as before
             )
         )
 

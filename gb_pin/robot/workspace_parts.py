@@ -27,7 +27,9 @@ from numpy.typing import NDArray
 
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.parts import Sectors
-from gb_pin.robot.workspace import WorkspaceRegion, _model, forward_all, region_postures, window
+from gb_pin.robot.workspace import AUTO, WorkspaceRegion, _model, forward_all, region_postures, window
+
+AUTO_SPAN = np.pi  # parts=auto: 2 parts where the goals' 5-95 % angles around the axis span more than this
 
 
 class RegionParts(NamedTuple):
@@ -122,3 +124,26 @@ def region_parts(robot: Any, region: WorkspaceRegion) -> RegionParts:
         homes.append(home)
         goals.append(forward_all(robot, np.vstack(blocks)))
     return RegionParts(sectors, np.array(homes), goals)
+
+
+def auto_parts(robot: Any, region: WorkspaceRegion) -> int:
+    """The parts of ``region``: as given, or for ``parts=auto`` 2 where it wraps around the first axis.
+
+    The region wraps when the 5-95 % percentiles of its goal points' angles around the axis span
+    more than :data:`AUTO_SPAN` (half a turn): points behind the arm, where one inverse must switch
+    branches. At fraction 0.5 the Panda's span 260 deg and the UR5's 234 deg; the SO-101's 100, the
+    TALOS left arm's 94, the G1 left arm's 166 (docs/WORKSPACE.md). A robot whose hand does not
+    circle as the first joint turns, or that has no compiled kinematics, gets 1.
+    """
+    if region.parts != AUTO:
+        return region.parts
+    model = _model(robot)
+    if getattr(model, "chain", None) is None:
+        return 1
+    try:
+        origin, u, v = turn_axis(robot, region.fraction)
+    except InvalidArgumentError:
+        return 1
+    angle = Sectors(origin, u, v, np.zeros(0)).angle(region.final_goals(robot))
+    low, high = np.percentile(angle, [5.0, 95.0])
+    return 2 if high - low > AUTO_SPAN else 1
