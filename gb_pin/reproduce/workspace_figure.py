@@ -63,6 +63,23 @@ def table(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(md) + "\n" + note
 
 
+def _parts_drawn(robot: str, run: dict[str, Any], X: np.ndarray) -> Any:
+    """(the part homes' hand positions (P, 3), the cuts as segments) of a run in parts, else None."""
+    parts = int(run.get("parts", 1))
+    if parts < 2:
+        return None
+    from gb_pin.robot.presets import load_robot
+    from gb_pin.robot.workspace import WorkspaceRegion
+    from gb_pin.robot.workspace_parts import region_parts
+
+    arm = load_robot(robot)
+    split = region_parts(arm, WorkspaceRegion(run["condition"]["fraction"], parts=parts))
+    o, u, v, edges = split.sectors
+    reach = float(np.max(np.linalg.norm(X - o, axis=1)))
+    cuts = [(o, o + reach * (np.cos(a) * u + np.sin(a) * v)) for a in (*edges, np.pi)]
+    return arm.forward(split.homes), cuts
+
+
 def draw_robot(
     rows: Sequence[dict[str, Any]], robot: str, out: str, formats: Sequence[str] = ("png",)
 ) -> list[str]:
@@ -78,6 +95,7 @@ def draw_robot(
     e = np.asarray(shown["snapshots"][at]["errors"]) * 1000
     home = np.asarray(shown["home_position"])
     order = np.argsort(e)  # the worst points drawn last, on top
+    parted = _parts_drawn(robot, shown, X)
     norm = log_norm(1.0, 100.0)
     for ax, (i, j), title in ((ax_top, (0, 1), "top view (x, y)"), (ax_side, (0, 2), "side view (x, z)")):
         colour = np.clip(e[order], 1.0, 100.0)
@@ -86,6 +104,14 @@ def draw_robot(
         )
         ax.plot(*home[[i, j]], marker="*", color="#b03a2e", markersize=13, linestyle="none", label="home")
         ax.plot(0.0, 0.0, marker="+", color="k", markersize=10, linestyle="none", label="base origin")
+        if parted is not None:
+            homes, cuts = parted
+            ax.plot(homes[:, i], homes[:, j], marker="*", color="#e67e22", markersize=10, linestyle="none",
+                    markeredgecolor="k", markeredgewidth=0.5, label="part homes")  # fmt: skip
+            if j == 1:  # the cuts between the parts, seen from above
+                for c, (start, end) in enumerate(cuts):
+                    ax.plot([start[0], end[0]], [start[1], end[1]], color="#e67e22", linewidth=1.2,
+                            linestyle="--", label=None if c else "cuts between parts")  # fmt: skip
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]" if j == 1 else "z [m]")

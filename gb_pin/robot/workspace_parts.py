@@ -133,13 +133,14 @@ def auto_parts(robot: Any, region: WorkspaceRegion) -> int:
     more than :data:`AUTO_SPAN` (half a turn): points behind the arm, where one inverse must switch
     branches. At fraction 0.5 the Panda's span 260 deg and the UR5's 234 deg; the SO-101's 100, the
     TALOS left arm's 94, the G1 left arm's 166 (docs/WORKSPACE.md). A robot whose hand does not
-    circle as the first joint turns, or that has no compiled kinematics, gets 1.
+    circle as the first joint turns, that has no compiled kinematics, or whose task is stacked (a
+    pose, two hands) gets 1.
     """
     if region.parts != AUTO:
         return region.parts
     model = _model(robot)
-    if getattr(model, "chain", None) is None:
-        return 1
+    if getattr(model, "chain", None) is None or getattr(model.chain, "components", None) is not None:
+        return 1  # no compiled kinematics, or a stacked task (pose, two hands): one learner
     try:
         origin, u, v = turn_axis(robot, region.fraction)
     except InvalidArgumentError:

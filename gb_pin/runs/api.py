@@ -232,7 +232,10 @@ def _parted_region(spec: RunSpec, checkpoint: Any = None) -> Any:
         target = setup.resolve_robot(spec.robot)[0]
         if getattr(target, "sensor", None) is not None or not hasattr(target, "chain"):
             return None
-        region = dataclasses.replace(region, parts=auto_parts(target, region))
+        try:
+            region = dataclasses.replace(region, parts=auto_parts(target, region))
+        except InvalidArgumentError:  # no forward model: the one-learner path says what is missing
+            return None
     return region if region.parts > 1 else None
 
 
