@@ -291,6 +291,8 @@ def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_p
     errors = run.workspace_errors()
     assert errors.errors.shape == (300,) and errors.mean == pytest.approx(run.error)
     assert run.error < 0.5 * run.initial_error  # it learns
+    home = run.target.forward(run.target.home)  # E_0: the robot's constant home, as one learner's
+    assert run.initial_error == pytest.approx(np.mean(np.linalg.norm(run.targets - home, axis=1)))
     again = gb_pin.babble("panda", movements=400, seed=0, targets=spec)
     np.testing.assert_array_equal(again.history.error, run.history.error)  # same seed, same numbers
     run.save(tmp_path / "run.npz")

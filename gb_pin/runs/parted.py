@@ -7,7 +7,8 @@ map, exploration noise and random stream) with the region's settings
 movement budget is shared: after r movements of the run learner p has made r // P (+1 for the
 first r % P learners). E^X and D^home of the run are those of the parted estimate
 (:class:`~gb_pin.learn.parts.PartedMap`: a query answered by the map of its part) on the region's
-test points, at the schedule's movement counts of the whole run.
+test points, at the schedule's movement counts of the whole run; at movement 0 those of the
+robot's constant home q_home (E_0, as a run of one learner records it).
 """
 
 from __future__ import annotations
@@ -124,6 +125,10 @@ def babble_parted(
     errors, distances, reaches = (np.full(schedule.shape[0], np.nan) for _ in range(3))
     start = time.perf_counter()
     total, k = 0, 0
+    if schedule.shape[0] and schedule[0] == 0:  # E_0: the robot's constant home, as one learner records it
+        reached = target.forward(np.tile(np.clip(home, lower, upper), (test.shape[0], 1)))
+        errors[0], distances[0] = float(np.mean(np.linalg.norm(reached - test, axis=1))), 0.0
+        k = 1
     observed = range(observe_every, movements + 1, observe_every) if viewer is not None else ()
     chunks = range(TURN * P, movements + 1, TURN * P) if callback is not None else ()
     stops = sorted({*schedule.tolist(), *observed, *chunks, movements} - {0})
