@@ -302,6 +302,8 @@ def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_p
         loaded.model.predict(run.targets, warn=False), run.model.predict(run.targets, warn=False)
     )
     assert loaded.workspace_errors().median == errors.median
+    solved = run.solve(run.targets[:2])  # the IK solver seeded by each target's part
+    assert solved.postures.shape == (2, 7) and np.all(solved.residuals < 1e-3)
     with pytest.raises(gb_pin.InvalidArgumentError, match="checkpoint"):
         gb_pin.babble("panda", movements=10, targets=spec, checkpoint=str(tmp_path / "c.npz"))
     with pytest.raises(gb_pin.InvalidArgumentError, match="parts"):
