@@ -92,7 +92,9 @@ class WorkspaceRegion:
 
     @classmethod
     def parse(cls, text: str) -> WorkspaceRegion:
-        """``"workspace:fraction=0.5,points=300,seed=0,test_points=300,test_seed=1,stages=3"``.
+        """``"workspace:fraction=0.5,points=1000,seed=0,test_points=300,test_seed=1,stages=3,parts=2"``.
+
+        ``parts=auto`` (the default) reads as 0.
 
         Raises:
             InvalidArgumentError: not a workspace spec, an unknown key or a bad value.
