@@ -51,7 +51,8 @@ def test_region_specs_parse_round_trip_and_refuse_bad_values() -> None:
     for bad, match in (("workspace:fraction=0", "fraction"), ("workspace:fraction=1.5", "fraction"),
                        ("workspace:points=0", "points"), ("workspace:size=3", "key"),
                        ("workspace:fraction=half", "not a number"),
-                       ("workspace:seed=-1", "seed")):  # fmt: skip
+                       ("workspace:seed=-1", "seed"), ("workspace:parts=9", "auto"),
+                       ("workspace:parts=-1", "parts")):  # fmt: skip
         with pytest.raises(gb_pin.InvalidArgumentError, match=match):
             WorkspaceRegion.parse(bad)
     with pytest.raises(gb_pin.InvalidArgumentError, match="fraction"):

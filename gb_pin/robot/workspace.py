@@ -82,8 +82,9 @@ class WorkspaceRegion:
         for name, low, high in bounds:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                auto = " or 'auto' (0)" if name == "parts" else ""
                 raise InvalidArgumentError(
-                    f"workspace {name} must be an integer in [{low}, {high}], got {value!r}"
+                    f"workspace {name} must be an integer in [{max(low, 1)}, {high}]{auto}, got {value!r}"
                 )
         for name in ("seed", "test_seed"):
             value = getattr(self, name)
