@@ -276,6 +276,10 @@ def test_region_parts_split_around_the_first_joints_axis_with_a_home_each() -> N
     assert auto_parts(panda, WorkspaceRegion(0.5)) == 2 and auto_parts(panda, WorkspaceRegion(0.25)) == 1
     assert auto_parts(gb_pin.load_robot("so101"), WorkspaceRegion(0.5)) == 1
     assert auto_parts(panda, WorkspaceRegion(0.25, parts=3)) == 3
+    from gb_pin.learn import parts as learn_parts
+    from gb_pin.robot import workspace as robot_workspace
+
+    assert robot_workspace.MAX_PARTS == learn_parts.MAX_PARTS
     assert [share(7, 2, p) for p in (0, 1)] == [4, 3] and WorkspaceRegion.parse(
         "workspace:parts=auto"
     ).parts == 0
@@ -305,6 +309,9 @@ def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_p
     assert loaded.workspace_errors().median == errors.median
     solved = run.solve(run.targets[:2])  # the IK solver seeded by each target's part
     assert solved.postures.shape == (2, 7) and np.all(solved.residuals < 1e-3)
+    assert run.solve_path(run.targets[0], run.targets[1], steps=5).postures.shape == (5, 7)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="steps must be"):
+        run.solve_path(run.targets[0], run.targets[1], steps=10**9)  # refused before anything is allocated
     with pytest.raises(gb_pin.InvalidArgumentError, match="checkpoint"):
         gb_pin.babble("panda", movements=10, targets=spec, checkpoint=str(tmp_path / "c.npz"))
     with pytest.raises(gb_pin.InvalidArgumentError, match="parts"):

@@ -32,13 +32,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin.exceptions import InvalidArgumentError
-from gb_pin.learn.parts import MAX_PARTS
 
 PREFIX = "workspace"
 MAX_POINTS = 100_000  # goal or test points of one region (arrays of a few MB)
 _UNBOUNDED = math.pi  # half-width of the sampling interval of an unbounded joint [rad] or [m]
 EXTENT_LOW, EXTENT_HIGH = 5.0, 95.0  # the percentiles of the box whose diagonal is a set's extent L
 AUTO = 0  # parts=auto: chosen by gb_pin.robot.workspace_parts.auto_parts
+MAX_PARTS = 8  # gb_pin.learn.parts.MAX_PARTS (not imported: the CLI's help loads no numba)
 
 
 def is_workspace_spec(value: Any) -> bool:

@@ -258,8 +258,14 @@ class BabbleResult:
         Returns:
             An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
         """
-        line = np.linspace(np.asarray(start, dtype=float), np.asarray(end, dtype=float), max(int(steps), 1))
-        model, seed = _seed_of(self.model, line, seed)
+        model: Any = self.model
+        if isinstance(seed, str) and hasattr(model, "part_of"):  # a region in parts: seeds per point's part
+            from gb_pin import _validation as check
+            from gb_pin.ik.api import MAX_PATH_STEPS
+
+            count = check.positive_int("steps", steps, minimum=2, maximum=MAX_PATH_STEPS)
+            ends = [check.vector(name, v, self.target.n_task) for name, v in (("start", start), ("end", end))]
+            model, seed = _seed_of(model, np.linspace(ends[0], ends[1], count), seed)
         return solve_path(self.target, start, end, steps, model=model, seed=seed, tol=tol, **options)
 
     def reach(
