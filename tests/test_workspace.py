@@ -312,6 +312,8 @@ def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_p
     assert run.solve_path(run.targets[0], run.targets[1], steps=5).postures.shape == (5, 7)
     with pytest.raises(gb_pin.InvalidArgumentError, match="steps must be"):
         run.solve_path(run.targets[0], run.targets[1], steps=10**9)  # refused before anything is allocated
+    with pytest.raises(gb_pin.InvalidArgumentError, match="parts=1 to export"):
+        run.export_inverse(tmp_path / "inverse.npz")
     with pytest.raises(gb_pin.InvalidArgumentError, match="checkpoint"):
         gb_pin.babble("panda", movements=10, targets=spec, checkpoint=str(tmp_path / "c.npz"))
     with pytest.raises(gb_pin.InvalidArgumentError, match="parts"):
