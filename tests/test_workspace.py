@@ -14,10 +14,20 @@ from gb_pin.cli import main
 from gb_pin.learn.config import default_sigma
 from gb_pin.learn.goals import CurriculumGoals, make_goals
 from gb_pin.learn.goals.curriculum import stage_of
+from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.metrics import evaluation_schedule
+from gb_pin.learn.parts import PartedMap, Sectors
 from gb_pin.learn.reach_errors import ReachErrors
 from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec, region_postures
-from gb_pin.runs.scaling import RADIUS_SHARE, REGION_LEARNING_RATE, REGION_SIGMA_GAIN, scaled_sigma
+from gb_pin.robot.workspace_parts import auto_parts, region_parts, turn_axis
+from gb_pin.runs.parted import share
+from gb_pin.runs.scaling import (
+    RADIUS_SHARE,
+    REGION_LEARNING_RATE,
+    REGION_RADIUS_SHARE,
+    REGION_SIGMA_GAIN,
+    scaled_sigma,
+)
 
 
 def test_region_specs_parse_round_trip_and_refuse_bad_values() -> None:
@@ -41,7 +51,8 @@ def test_region_specs_parse_round_trip_and_refuse_bad_values() -> None:
     for bad, match in (("workspace:fraction=0", "fraction"), ("workspace:fraction=1.5", "fraction"),
                        ("workspace:points=0", "points"), ("workspace:size=3", "key"),
                        ("workspace:fraction=half", "not a number"),
-                       ("workspace:seed=-1", "seed")):  # fmt: skip
+                       ("workspace:seed=-1", "seed"), ("workspace:parts=9", "auto"),
+                       ("workspace:parts=-1", "parts")):  # fmt: skip
         with pytest.raises(gb_pin.InvalidArgumentError, match=match):
             WorkspaceRegion.parse(bad)
     with pytest.raises(gb_pin.InvalidArgumentError, match="fraction"):
@@ -128,7 +139,7 @@ def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points()
     np.testing.assert_array_equal(run.targets, region.test_set(run.target))
     L = extent(goals[-region.points :])
     assert 0.5 < L < 0.7  # the SO-101's region f = 0.5 (docs/WORKSPACE.md: 0.60 m)
-    assert run.config.radius == pytest.approx(RADIUS_SHARE * L)
+    assert run.config.radius == pytest.approx(REGION_RADIUS_SHARE * L)
     assert run.config.learning_rate == REGION_LEARNING_RATE
     np.testing.assert_array_equal(run.history.movements, evaluation_schedule(60, 100, 20))
     assert run.config.sigma == pytest.approx(scaled_sigma(run.target, L, REGION_SIGMA_GAIN))
@@ -143,7 +154,7 @@ def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points()
     assert (explicit.config.radius, explicit.config.sigma) == (
         0.07,
         0.03,
-    ) and explicit.goal_targets.shape == (300, 3)
+    ) and explicit.goal_targets.shape == (1000, 3)
 
 
 def test_own_targets_keep_the_presets_settings_and_given_sets_only_scale_up() -> None:
@@ -218,3 +229,94 @@ def test_a_robot_given_as_a_function_learns_a_region_and_reports_its_errors() ->
     assert session.state.eval_targets.shape == (300, 3) and session.state.config.learning_rate == 0.5
     with pytest.raises(gb_pin.InvalidArgumentError, match="no forward model"):
         gb_pin.babble_session(gb_pin.ExternalRobot.from_preset("so101"), movements=5, targets="workspace")
+
+
+def test_sectors_route_each_query_to_the_map_of_its_part_and_survive_a_file() -> None:
+    rng = np.random.default_rng(0)
+    maps = []
+    for q0 in (-1.0, 1.0):  # two maps that answer constants -1 and +1
+        lm = LocalLinearMap(radius=0.1).initialize(np.zeros(2), np.full(3, q0))
+        maps.append(lm)
+    sectors = Sectors.checked([0, 0], [1, 0], [0, 1], [0.0], 2)  # part 0: below the x axis, 1: above
+    parted = PartedMap(maps, sectors)
+    X = rng.uniform(-1, 1, (50, 2))
+    expected = np.where(X[:, 1:] > 0, 1.0, -1.0) * np.ones(3)
+    np.testing.assert_array_equal(parted.predict(X, warn=False), expected)
+    np.testing.assert_array_equal(parted.part_of(X), (X[:, 1] > 0).astype(int))
+    assert parted.predict([0.2, 0.3], warn=False).shape == (3,) and parted.n_prototypes_ == 2
+    again = PartedMap.from_arrays(parted.to_arrays(), 0.1)
+    np.testing.assert_array_equal(again.predict(X, warn=False), expected)
+    np.testing.assert_array_equal(parted.jacobian([0.1, 0.5]), maps[1].jacobian([0.1, 0.5]))
+    bad = {**parted.to_arrays(), "part_sizes": np.array([1, 2])}
+    with pytest.raises(gb_pin.InvalidArgumentError, match="add up"):
+        PartedMap.from_arrays(bad, 0.1)
+    for edges, match in (([0.5, 0.1], "increasing"), ([4.0], "increasing")):
+        with pytest.raises(gb_pin.InvalidArgumentError, match=match):
+            Sectors.checked([0, 0], [1, 0], [0, 1], edges, 2)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="orthonormal"):
+        Sectors.checked([0, 0], [1, 0], [1, 1], [0.0], 2)
+
+
+def test_region_parts_split_around_the_first_joints_axis_with_a_home_each() -> None:
+    panda = gb_pin.load_robot("panda")
+    origin, u, v = turn_axis(panda, 0.5)  # joint 1 turns about the vertical through the base
+    np.testing.assert_allclose(origin[:2], 0.0, atol=1e-9)
+    home = panda.forward(panda.home)
+    np.testing.assert_allclose(u, np.r_[home[:2] / np.linalg.norm(home[:2]), 0.0], atol=1e-9)
+    assert abs(v[2]) < 1e-9 and abs(u @ v) < 1e-12
+    region = WorkspaceRegion(0.5, points=200, parts=2)
+    parts = region_parts(panda, region)
+    assert parts.sectors.parts == 2 and parts.homes.shape == (2, 7)
+    assert np.all(parts.homes >= panda.lower) and np.all(parts.homes <= panda.upper)
+    sizes = [g.shape[0] for g in parts.goals]
+    assert sum(sizes) == 3 * 200 and all(s % 3 == 0 for s in sizes)  # the curriculum's blocks
+    for p, goals in enumerate(parts.goals):  # the last block lies in its part
+        assert np.all(parts.sectors.part_of(goals[-sizes[p] // 3 :]) == p)
+    # parts=auto: two where the region wraps around the axis (Panda, UR5 at 0.5), else one
+    assert auto_parts(panda, WorkspaceRegion(0.5)) == 2 and auto_parts(panda, WorkspaceRegion(0.25)) == 1
+    assert auto_parts(gb_pin.load_robot("so101"), WorkspaceRegion(0.5)) == 1
+    assert auto_parts(panda, WorkspaceRegion(0.25, parts=3)) == 3
+    from gb_pin.learn import parts as learn_parts
+    from gb_pin.robot import workspace as robot_workspace
+
+    assert robot_workspace.MAX_PARTS == learn_parts.MAX_PARTS
+    assert [share(7, 2, p) for p in (0, 1)] == [4, 3] and WorkspaceRegion.parse(
+        "workspace:parts=auto"
+    ).parts == 0
+
+
+def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    spec = "workspace:fraction=0.5,points=60,parts=2"
+    run = gb_pin.babble("panda", movements=400, seed=0, targets=spec)
+    assert isinstance(run.model, PartedMap) and run.model.n_parts == 2 and run.movements == 400
+    assert run.steps == 400 * run.config.path_length and run.goals is not None and "2 parts" in run.goals
+    assert run.config.radius == pytest.approx(
+        REGION_RADIUS_SHARE * extent(WorkspaceRegion(0.5, 60).final_goals(run.target))
+    )
+    errors = run.workspace_errors()
+    assert errors.errors.shape == (300,) and errors.mean == pytest.approx(run.error)
+    assert run.error < 0.5 * run.initial_error  # it learns
+    home = run.target.forward(run.target.home)  # E_0: the robot's constant home, as one learner's
+    assert run.initial_error == pytest.approx(np.mean(np.linalg.norm(run.targets - home, axis=1)))
+    again = gb_pin.babble("panda", movements=400, seed=0, targets=spec)
+    np.testing.assert_array_equal(again.history.error, run.history.error)  # same seed, same numbers
+    run.save(tmp_path / "run.npz")
+    loaded = gb_pin.load_result(tmp_path / "run.npz")
+    assert isinstance(loaded.model, PartedMap)
+    np.testing.assert_array_equal(
+        loaded.model.predict(run.targets, warn=False), run.model.predict(run.targets, warn=False)
+    )
+    assert loaded.workspace_errors().median == errors.median
+    solved = run.solve(run.targets[:2])  # the IK solver seeded by each target's part
+    assert solved.postures.shape == (2, 7) and np.all(solved.residuals < 1e-3)
+    assert run.solve_path(run.targets[0], run.targets[1], steps=5).postures.shape == (5, 7)
+    with pytest.raises(gb_pin.InvalidArgumentError, match="steps must be"):
+        run.solve_path(run.targets[0], run.targets[1], steps=10**9)  # refused before anything is allocated
+    with pytest.raises(gb_pin.InvalidArgumentError, match="parts=1 to export"):
+        run.export_inverse(tmp_path / "inverse.npz")
+    with pytest.raises(gb_pin.InvalidArgumentError, match="checkpoint"):
+        gb_pin.babble("panda", movements=10, targets=spec, checkpoint=str(tmp_path / "c.npz"))
+    with pytest.raises(gb_pin.InvalidArgumentError, match="parts"):
+        gb_pin.babble_session("panda", movements=5, targets=spec)
+    assert main(["babble", "--robot", "panda", "--movements", "40", "--targets", spec]) == 0
+    assert "test points      median" in capsys.readouterr().out

@@ -28,6 +28,7 @@ from gb_pin.learn.body.components import COMPONENT_KINDS, POSITION
 from gb_pin.learn.body.kinematics import Kinematics
 from gb_pin.learn.llm import LocalLinearMap
 from gb_pin.learn.llm_kernels import llm_predict
+from gb_pin.learn.parts import PartedMap
 
 QUANTILES = (0.5, 0.9)
 """The quantiles :class:`ComponentErrors` reports."""
@@ -85,7 +86,7 @@ def reached(targets, limits, body, lm, K, out):  # type: ignore[no-untyped-def]
 
 
 def component_errors(
-    model: LocalLinearMap,
+    model: LocalLinearMap | PartedMap,
     chain: KinematicChain,
     limits: tuple[ArrayLike, ArrayLike, ArrayLike],
     targets: ArrayLike,
@@ -101,7 +102,17 @@ def component_errors(
     X = check.points("targets", targets, chain.n_task)
     home, lower, upper = (np.ascontiguousarray(a, dtype=float) for a in limits)
     out = np.empty_like(X)
-    reached(X, (home, lower, upper), chain.kernel(), model.kernel(), model.n_prototypes_, out)
+    if isinstance(model, PartedMap):  # each target reached by the map of its part
+        part = model.part_of(X)
+        for p, lm in enumerate(model.maps):
+            rows = np.flatnonzero(part == p)
+            if rows.size:
+                sub = np.empty((rows.size, X.shape[1]))
+                reached(np.ascontiguousarray(X[rows]), (home, lower, upper), chain.kernel(), lm.kernel(),
+                        lm.n_prototypes_, sub)  # fmt: skip
+                out[rows] = sub
+    else:
+        reached(X, (home, lower, upper), chain.kernel(), model.kernel(), model.n_prototypes_, out)
     diff = X - out
     total = np.sqrt(np.sum(diff * diff, axis=1))
     comps = chain.components
@@ -119,7 +130,7 @@ def component_errors(
     return ComponentErrors(tuple(kinds), tuple(units), errors, total)
 
 
-def task_errors(model: LocalLinearMap, robot: Kinematics, targets: ArrayLike) -> ComponentErrors:
+def task_errors(model: LocalLinearMap | PartedMap, robot: Kinematics, targets: ArrayLike) -> ComponentErrors:
     """:func:`component_errors` of ``model`` on a robot (chain, home, limits), e.g. a ``KinematicTarget``.
 
     Example::

@@ -44,7 +44,7 @@ class Condition(NamedTuple):
     @property
     def key(self) -> str:
         """The cache file's name: robot, fraction, seed and a hash of every setting that changes numbers."""
-        settings = json.dumps([*self, SNAPSHOTS, "v2"])  # v2: learning rate 0.5 for regions
+        settings = json.dumps([*self, SNAPSHOTS, "v3"])  # v2: learning rate 0.5; v3: parts=auto
         digest = hashlib.sha256(settings.encode()).hexdigest()[:12]
         return f"{self.robot.replace(':', '_')}_f{self.fraction:g}_s{self.seed}_{digest}"
 
@@ -63,6 +63,9 @@ class _Snapshots:
         if state.movements in self.at:
             from gb_pin.learn.llm import LocalLinearMap
 
+            if hasattr(state.llm, "copy"):  # a region in parts: its PartedMap
+                self.maps[state.movements] = state.llm.copy()
+                return
             self.maps[state.movements] = LocalLinearMap.from_arrays(
                 {k: v.copy() for k, v in state.llm.to_arrays().items()}, state.config.radius
             )
@@ -72,6 +75,7 @@ def run_condition(cond: Condition, movements: int) -> dict[str, Any]:
     """Learn one region with one seed; the test points' errors at every snapshot count."""
     import gb_pin
     from gb_pin.learn.reach_errors import ReachErrors
+    from gb_pin.robot.workspace import WorkspaceRegion, extent
 
     at = [s for s in SNAPSHOTS if s <= movements]
     shots = _Snapshots(at)
@@ -87,6 +91,8 @@ def run_condition(cond: Condition, movements: int) -> dict[str, Any]:
         "radius": run.config.radius,
         "sigma": run.config.sigma,
         "goals": run.goals,
+        "parts": getattr(run.model, "n_parts", 1),
+        "extent": extent(WorkspaceRegion(cond.fraction).final_goals(arm)),
         "cpu_seconds": cpu,
         "steps": run.steps,
         "test": test.tolist(),

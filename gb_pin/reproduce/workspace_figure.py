@@ -35,12 +35,16 @@ def _stat(group: Sequence[dict[str, Any]], at: str, key: str) -> np.ndarray:
 def table(rows: Sequence[dict[str, Any]]) -> str:
     """Markdown: per robot and fraction, over seeds, median (and range) of each run's median / 90 % [mm]."""
     snapshots = sorted({int(k) for r in rows for k in r["snapshots"]})
-    head = ["robot", "f", "seeds", "L [m]", "radius [m]"] + [f"@{s:,}: median / 90 % [mm]" for s in snapshots]
+    head = ["robot", "f", "seeds", "parts", "L [m]", "radius [m]"] + [
+        f"@{s:,}: median / 90 % [mm]" for s in snapshots
+    ]
     head += [f"@{snapshots[-1]:,}: within 1 cm / 2 mm", "K", "CPU s / run"]
     md = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for (robot, f), group in _groups(rows).items():
         radius = float(np.median([g["radius"] for g in group]))
-        cells = [robot, f"{f:g}", str(len(group)), f"{radius / 0.08:.2f}", f"{radius:.3f}"]
+        extent = float(np.median([g.get("extent", g["radius"] / 0.08) for g in group]))
+        parts = "/".join(str(p) for p in sorted({int(g.get("parts", 1)) for g in group}))
+        cells = [robot, f"{f:g}", str(len(group)), parts, f"{extent:.2f}", f"{radius:.3f}"]
         for s in snapshots:
             med, p90 = 1000 * _stat(group, str(s), "median"), 1000 * _stat(group, str(s), "p90")
             cells.append(f"{np.median(med):.2f} / {np.median(p90):.1f} "
@@ -54,9 +58,26 @@ def table(rows: Sequence[dict[str, Any]]) -> str:
     note = (
         "\nEach cell: the median over the seeds of each run's median / 90 % reach error on 300 test points "
         "of the region (never learnt), with the range over the seeds in brackets. L: the extent of the goal "
-        "region (diagonal of its 5-95 % box); radius 0.08 L.\n"
+        "region (diagonal of its 5-95 % box); parts: learners (parts=auto); K: prototypes of all parts.\n"
     )
     return "\n".join(md) + "\n" + note
+
+
+def _parts_drawn(robot: str, run: dict[str, Any], X: np.ndarray) -> Any:
+    """(the part homes' hand positions (P, 3), the cuts as segments) of a run in parts, else None."""
+    parts = int(run.get("parts", 1))
+    if parts < 2:
+        return None
+    from gb_pin.robot.presets import load_robot
+    from gb_pin.robot.workspace import WorkspaceRegion
+    from gb_pin.robot.workspace_parts import region_parts
+
+    arm = load_robot(robot)
+    split = region_parts(arm, WorkspaceRegion(run["condition"]["fraction"], parts=parts))
+    o, u, v, edges = split.sectors
+    reach = float(np.max(np.linalg.norm(X - o, axis=1)))
+    cuts = [(o, o + reach * (np.cos(a) * u + np.sin(a) * v)) for a in (*edges, np.pi)]
+    return arm.forward(split.homes), cuts
 
 
 def draw_robot(
@@ -74,6 +95,7 @@ def draw_robot(
     e = np.asarray(shown["snapshots"][at]["errors"]) * 1000
     home = np.asarray(shown["home_position"])
     order = np.argsort(e)  # the worst points drawn last, on top
+    parted = _parts_drawn(robot, shown, X)
     norm = log_norm(1.0, 100.0)
     for ax, (i, j), title in ((ax_top, (0, 1), "top view (x, y)"), (ax_side, (0, 2), "side view (x, z)")):
         colour = np.clip(e[order], 1.0, 100.0)
@@ -82,6 +104,14 @@ def draw_robot(
         )
         ax.plot(*home[[i, j]], marker="*", color="#b03a2e", markersize=13, linestyle="none", label="home")
         ax.plot(0.0, 0.0, marker="+", color="k", markersize=10, linestyle="none", label="base origin")
+        if parted is not None:
+            homes, cuts = parted
+            ax.plot(homes[:, i], homes[:, j], marker="*", color="#e67e22", markersize=10, linestyle="none",
+                    markeredgecolor="k", markeredgewidth=0.5, label="part homes")  # fmt: skip
+            if j == 1:  # the cuts between the parts, seen from above
+                for c, (start, end) in enumerate(cuts):
+                    ax.plot([start[0], end[0]], [start[1], end[1]], color="#e67e22", linewidth=1.2,
+                            linestyle="--", label=None if c else "cuts between parts")  # fmt: skip
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]" if j == 1 else "z [m]")

@@ -37,6 +37,8 @@ PREFIX = "workspace"
 MAX_POINTS = 100_000  # goal or test points of one region (arrays of a few MB)
 _UNBOUNDED = math.pi  # half-width of the sampling interval of an unbounded joint [rad] or [m]
 EXTENT_LOW, EXTENT_HIGH = 5.0, 95.0  # the percentiles of the box whose diagonal is a set's extent L
+AUTO = 0  # parts=auto: chosen by gb_pin.robot.workspace_parts.auto_parts
+MAX_PARTS = 8  # gb_pin.learn.parts.MAX_PARTS (not imported: the CLI's help loads no numba)
 
 
 def is_workspace_spec(value: Any) -> bool:
@@ -55,14 +57,19 @@ class WorkspaceRegion:
         test_points: test points (where E^X is measured).
         test_seed: seed of the test postures (another than ``seed``: points never learnt).
         stages: curriculum stages (1: none); stage s draws from ``fraction / 2^(stages - s)``.
+        parts: learners, one per sector around the first joint's axis, each with its own home and
+            map (:mod:`gb_pin.robot.workspace_parts`); 1: one learner for the whole region; 0
+            (``parts=auto``, the default): 2 where the region wraps around that axis (its goal
+            points span more than half a turn around it, :data:`AUTO_SPAN`), else 1.
     """
 
     fraction: float = 0.5
-    points: int = 300
+    points: int = 1000
     seed: int = 0
     test_points: int = 300
     test_seed: int = 1
     stages: int = 3
+    parts: int = AUTO
 
     def __post_init__(self) -> None:
         f = self.fraction
@@ -70,11 +77,14 @@ class WorkspaceRegion:
             raise InvalidArgumentError(
                 f"workspace fraction must be in (0, 1] (the share of each joint's range), got {f!r}"
             )
-        for name, low, high in (("points", 1, MAX_POINTS), ("test_points", 1, MAX_POINTS), ("stages", 1, 8)):
+        bounds = (("points", 1, MAX_POINTS), ("test_points", 1, MAX_POINTS), ("stages", 1, 8),
+                  ("parts", AUTO, MAX_PARTS))  # fmt: skip
+        for name, low, high in bounds:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                auto = " or 'auto' (0)" if name == "parts" else ""
                 raise InvalidArgumentError(
-                    f"workspace {name} must be an integer in [{low}, {high}], got {value!r}"
+                    f"workspace {name} must be an integer in [{max(low, 1)}, {high}]{auto}, got {value!r}"
                 )
         for name in ("seed", "test_seed"):
             value = getattr(self, name)
@@ -83,7 +93,9 @@ class WorkspaceRegion:
 
     @classmethod
     def parse(cls, text: str) -> WorkspaceRegion:
-        """``"workspace:fraction=0.5,points=300,seed=0,test_points=300,test_seed=1,stages=3"``.
+        """``"workspace:fraction=0.5,points=1000,seed=0,test_points=300,test_seed=1,stages=3,parts=2"``.
+
+        ``parts=auto`` (the default) reads as 0.
 
         Raises:
             InvalidArgumentError: not a workspace spec, an unknown key or a bad value.
@@ -98,6 +110,9 @@ class WorkspaceRegion:
                 raise InvalidArgumentError(
                     f"targets={text!r}: expected key=value with a key of {', '.join(names)}, got {item!r}"
                 )
+            if key == "parts" and value == "auto":
+                values[key] = AUTO
+                continue
             try:
                 values[key] = float(value) if key == "fraction" else int(value)
             except ValueError as exc:
@@ -107,7 +122,13 @@ class WorkspaceRegion:
     def spec(self) -> str:
         """The spec string that :meth:`parse` reads back to this region."""
         return (
-            PREFIX + ":" + ",".join(f"{f.name}={getattr(self, f.name)!r}" for f in dataclasses.fields(self))
+            PREFIX
+            + ":"
+            + ",".join(
+                f"{f.name}={getattr(self, f.name)!r}"
+                for f in dataclasses.fields(self)
+                if f.name != "parts" or self.parts != AUTO  # the default's spec reads as before
+            )
         )
 
     def stage_fractions(self) -> list[float]:
@@ -152,6 +173,14 @@ def region_postures(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDAr
     there. q_i = low_i + w_i u_i.
     """
     model = _model(robot)
+    low, width = window(robot, fraction)
+    lower, upper = np.asarray(model.lower, dtype=float), np.asarray(model.upper, dtype=float)
+    return np.clip(low + width * u, lower, upper)
+
+
+def window(robot: Any, fraction: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(low, width) (m,) each: the window of :func:`region_postures`, [low, low + width] per joint."""
+    model = _model(robot)
     home = np.asarray(model.home, dtype=float)
     lower = np.asarray(model.lower, dtype=float)
     upper = np.asarray(model.upper, dtype=float)
@@ -159,13 +188,17 @@ def region_postures(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDAr
     width = fraction * np.minimum(span, 2.0 * _UNBOUNDED)  # a range beyond one turn adds no postures
     low = np.maximum(np.minimum(home - width / 2.0, upper - width), lower)
     low = np.where(np.isfinite(low), low, home - width / 2.0)
-    return np.clip(low + width * u, lower, upper)
+    return low, width
 
 
 def region_points(robot: Any, fraction: float, u: NDArray[np.float64]) -> NDArray[np.float64]:
     """Hand positions of :func:`region_postures` (N, n) [m]: reachable by construction."""
+    return forward_all(robot, region_postures(robot, fraction, u))
+
+
+def forward_all(robot: Any, Q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Hand positions of postures Q (N, m) -> (N, n) [m], checked finite."""
     model = _model(robot)
-    Q = region_postures(robot, fraction, u)
     if getattr(model, "chain", None) is not None:  # compiled kinematics: all postures at once
         X = np.asarray(model.forward(Q), dtype=float)
     else:  # a forward model given as a function: one posture at a time, as babble() calls it

@@ -165,6 +165,15 @@ def babble(
             targets, eval_targets, schedule, record, goals, changes, init, until_error, max_joint_step,
             sensor, reach_window, obstacles, self_collision, collision_geometry, clearance,
         )  # fmt: skip
+    region = _parted_region(spec, checkpoint)
+    if region is not None:  # one learner per part of the region (gb_pin.runs.parted)
+        from gb_pin.runs.parted import babble_parted
+
+        if checkpoint is not None:
+            raise InvalidArgumentError(
+                f"a workspace region in parts (parts={region.parts}) writes no checkpoints: use parts=1"
+            )
+        return babble_parted(spec, region, callback=callback, viewer=viewer, observe_every=observe_every)
     run = setup.prepare(spec)
     if isinstance(run.target, ExternalRobot):
         raise InvalidArgumentError(
@@ -201,6 +210,36 @@ def babble(
             should_stop=interrupted,
         )
     return _continued(runner.result(learner, interrupted()), spec.init)
+
+
+def _parted_region(spec: RunSpec, checkpoint: Any = None) -> Any:
+    """The workspace region of ``spec.targets`` if it is learnt in several parts, else None.
+
+    ``parts=auto`` (the default) decides on the robot (:func:`~gb_pin.robot.workspace_parts.auto_parts`);
+    a run continuing another (``init``), writing checkpoints, with body changes, a sensor, safety
+    checks, a recording or ``until_error``, or of a simulated plant keeps one learner.
+    """
+    from gb_pin.robot.workspace import AUTO, WorkspaceRegion, is_workspace_spec
+    from gb_pin.robot.workspace_parts import auto_parts
+
+    if not is_workspace_spec(spec.targets):
+        return None
+    region = WorkspaceRegion.parse(str(spec.targets))
+    if region.parts == AUTO:
+        if (
+            spec.init is not None or checkpoint is not None or spec.changes or spec.sensor is not None
+            or spec.safe or spec.record is not None or spec.until_error is not None
+            or (isinstance(spec.robot, str) and "@" in spec.robot)
+        ):  # fmt: skip
+            return None
+        target = setup.resolve_robot(spec.robot)[0]
+        if getattr(target, "sensor", None) is not None or not hasattr(target, "chain"):
+            return None
+        try:
+            region = dataclasses.replace(region, parts=auto_parts(target, region))
+        except InvalidArgumentError:  # no forward model: the one-learner path says what is missing
+            return None
+    return region if region.parts > 1 else None
 
 
 def _continued(result: BabbleResult, init: Any) -> BabbleResult:

@@ -31,6 +31,13 @@ def export_inverse(result: Any, path: str | os.PathLike[str]) -> str:
     Raises:
         InvalidArgumentError: ``path`` cannot be written (checked before anything is computed).
     """
+    if hasattr(result.model, "part_of"):  # a region in parts: one map per part, no single inverse
+        from gb_pin.exceptions import InvalidArgumentError
+
+        raise InvalidArgumentError(
+            "the inverse of a workspace region learnt in parts has a map per part and a rule choosing one "
+            "(gb_pin.learn.parts.PartedMap); the plain export holds one map: learn it with parts=1 to export"
+        )
     path = check_writable(path, "inverse file")
     target = result.target
     arrays = result.model.to_arrays()

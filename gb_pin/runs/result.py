@@ -224,10 +224,11 @@ class BabbleResult:
         Returns:
             An :class:`~gb_pin.ik.solution.IKSolution` (see :func:`gb_pin.ik.solve`).
         """
+        model, seed = _seed_of(self.model, X, seed)
         return solve(
             self.target,
             X,
-            model=self.model,
+            model=model,
             seed=seed,
             tol=tol,
             max_iterations=max_iterations,
@@ -257,7 +258,15 @@ class BabbleResult:
         Returns:
             An :class:`~gb_pin.ik.solution.IKPath` with its joint length and largest joint step [rad].
         """
-        return solve_path(self.target, start, end, steps, model=self.model, seed=seed, tol=tol, **options)
+        model: Any = self.model
+        if isinstance(seed, str) and hasattr(model, "part_of"):  # a region in parts: seeds per point's part
+            from gb_pin import _validation as check
+            from gb_pin.ik.api import MAX_PATH_STEPS
+
+            count = check.positive_int("steps", steps, minimum=2, maximum=MAX_PATH_STEPS)
+            ends = [check.vector(name, v, self.target.n_task) for name, v in (("start", start), ("end", end))]
+            model, seed = _seed_of(model, np.linspace(ends[0], ends[1], count), seed)
+        return solve_path(self.target, start, end, steps, model=model, seed=seed, tol=tol, **options)
 
     def reach(
         self,
@@ -326,6 +335,20 @@ def goal_fields(state: BabbleState) -> dict[str, Any]:
         "goals": None if default else repr(state.goals),
         "goal_targets": None if same or not state.goals.needs_targets else state.targets,
     }
+
+
+def _seed_of(model: Any, X: ArrayLike, seed: Seed) -> tuple[Any, Seed]:
+    """(model, seed) for the IK solver: a parted map's learned seed is its prediction, given as postures.
+
+    The compiled solver reads one local-linear map; a region learnt in parts
+    (:class:`~gb_pin.learn.parts.PartedMap`) gives ``g(x*)`` of each target's part instead (also for
+    ``"nearest"``).
+    """
+    from gb_pin.learn.parts import PartedMap
+
+    if not isinstance(model, PartedMap) or not isinstance(seed, str) or seed not in ("learned", "nearest"):
+        return model, seed
+    return None, model.predict(X, warn=False)
 
 
 def _shape(array: NDArray[np.float64]) -> str:

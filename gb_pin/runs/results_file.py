@@ -10,6 +10,7 @@ from gb_pin.exceptions import GbPinError, ResultFileError
 from gb_pin.learn.config import BabbleConfig
 from gb_pin.learn.history import History, RecordedSteps
 from gb_pin.learn.llm import LocalLinearMap
+from gb_pin.learn.parts import PartedMap
 from gb_pin.robot.presets import load_robot
 from gb_pin.robot.target import KinematicTarget
 from gb_pin.runs import fields, robot_source
@@ -119,7 +120,11 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
                 f"but the target has {target.n_joints} and {target.n_task}"
             )
         config = BabbleConfig(**fields.config(path, meta))
-        model = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate)
+        model: Any = (
+            PartedMap.from_arrays(arrays, config.radius, config.learning_rate)
+            if "part_sizes" in arrays  # a workspace region learnt in parts (gb_pin.runs.parted)
+            else LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate)
+        )
         if (model.n_outputs_, model.n_inputs_) != (target.n_joints, target.n_task):
             raise ResultFileError(
                 f"{path}: model arrays of {model.n_outputs_} outputs, {model.n_inputs_} inputs"

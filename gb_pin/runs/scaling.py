@@ -6,7 +6,10 @@ workspace region: ``targets="workspace:fraction=0.5"``) takes, for each setting 
 
 - radius d = :data:`RADIUS_SHARE` L, L the extent of the goals (the diagonal of their 5-95 %
   percentile box, :func:`gb_pin.robot.workspace.extent`): 0.05-0.12 L was the useful band in
-  the reference measurements, 0.08 L the best single value (docs/WORKSPACE.md);
+  the reference measurements, 0.08 L the best single value at the paper's learning rate; for a
+  workspace region :data:`REGION_RADIUS_SHARE` L (with its learning rate 0.5 and 1000 goal
+  points, 10^4 movements, 3 seeds, median / 90 %: SO-101 1.15 / 5.9 mm at 0.06 L against 1.73 /
+  6.6 at 0.08 L and 300 points; Panda in two parts 5.1 / 24 against 7.8 / 24; docs/WORKSPACE.md);
 - sigma: Eq. 12's, capped as onboarding caps it (:func:`gb_pin.robot.onboarding.exploration_sigma`:
   the exploration at home within half the half-width L / (2 sqrt(n)) of the set); for a workspace
   region :data:`REGION_SIGMA_GAIN` times that (measured: fewer misses near the joint limits);
@@ -38,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.config import default_sigma
 from gb_pin.learn.goals import CurriculumGoals, DirectionGoals, make_goals
 from gb_pin.learn.metrics import evaluation_schedule
@@ -45,6 +49,7 @@ from gb_pin.robot.workspace import WorkspaceRegion, extent, is_workspace_spec
 from gb_pin.runs.spec import RunSpec
 
 RADIUS_SHARE = 0.08  # prototype radius d, a share of the goal set's extent L
+REGION_RADIUS_SHARE = 0.06  # the same for a workspace region (measured, docs/WORKSPACE.md)
 REGION_SIGMA_GAIN = 2.0  # sigma of a workspace region: this times Eq. 12's (capped)
 DIRECTION_SHARE = 0.1  # direction sampling's step D, a share of L
 REGION_DENSE = 100  # a region's E^X is recorded after every movement up to this count, then 20 per decade
@@ -63,6 +68,11 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
     """
     region = WorkspaceRegion.parse(str(spec.targets)) if is_workspace_spec(spec.targets) else None
     changes: dict[str, Any] = {}
+    if region is not None and region.parts > 1:
+        raise InvalidArgumentError(
+            f"a workspace region in parts (parts={region.parts}) is learnt by babble() alone (one learner "
+            "per part, gb_pin.runs.parted); a session or a continued run learns it with parts=1"
+        )
     if region is not None:
         generator = make_goals(spec.goals) if spec.goals is not None else None
         blocks = region.stages > 1 and (
@@ -94,7 +104,8 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
     if region is not None and spec.learning_rate is None:
         changes["learning_rate"] = REGION_LEARNING_RATE
     if spec.radius is None:
-        changes["radius"] = max(RADIUS_SHARE * L, floor.get("radius", 0.0))
+        share = REGION_RADIUS_SHARE if region is not None else RADIUS_SHARE
+        changes["radius"] = max(share * L, floor.get("radius", 0.0))
     if spec.sigma is None:
         sigma = scaled_sigma(target, L, REGION_SIGMA_GAIN if region is not None else 1.0)
         if sigma is not None:
