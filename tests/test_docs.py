@@ -21,6 +21,7 @@ New blocks (other pages, other sections) are picked up without any change here.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -32,6 +33,7 @@ from typing import NamedTuple
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+RUNNER = Path(__file__).resolve().with_name("docs_runner.py")
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 FENCE = re.compile(
     r"(?:^<!--\s*needs:\s*(?P<html>.*?)\s*-->\n)?^```(?P<lang>python|bash)\n(?P<body>.*?)^```", re.M | re.S
@@ -209,24 +211,107 @@ def test_shrink_and_rules() -> None:
     )
 
 
-@pytest.mark.parametrize("block", BLOCKS, ids=[f"{b.page}:{b.line}" for b in BLOCKS])
-def test_doc_block_runs(block: Block, tmp_path: Path) -> None:
-    """The block runs without error (imports, files and commands included), made small."""
-    if block.needs is not None:
-        pytest.skip(f"{block.page}:{block.line} needs {block.needs}")
-    _stand_ins(tmp_path)
-    env = {**os.environ, "MPLBACKEND": "Agg"}
-    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+def prepared(block: Block) -> str:
+    """The block's text as it runs here: made small, the lines left out commented, a driver stand-in."""
     text = shrink(block.text)
     if block.lang == "python":
         if re.search(r"\bmy_driver\b", text) and not re.search(r"^my_driver\s*=", text, re.M):
             text = STAND_IN_DRIVER + text
-        command = [sys.executable, "-c", text]
-    else:
-        text = bash_lines(text)
-        command = ["bash", "-e", "-o", "pipefail", "-c", text]
-    done = subprocess.run(
-        command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=TIMEOUT, check=False
-    )
-    where = f"{block.page}:{block.line} ({block.lang}, as run):\n{textwrap.indent(text, '    ')}"
-    assert done.returncode == 0, f"{where}\n{done.stdout[-2000:]}\n{done.stderr[-3000:]}"
+        return text
+    return bash_lines(text)
+
+
+def block_id(block: Block) -> str:
+    return f"{block.page}:{block.line}"
+
+
+def run_blocks(chosen: list[Block], base: Path) -> dict[str, dict[str, object]]:
+    """Run the blocks in tests/docs_runner.py, one interpreter for all of them; the result of each.
+
+    Each block gets its own folder with the stand-ins. If the runner dies (a segfault, a timeout),
+    the block it was running fails with what it printed, and a new runner takes the rest.
+    """
+    steps = []
+    for i, block in enumerate(chosen):
+        folder = base / f"{i:02d}_{re.sub(r'[^A-Za-z0-9]+', '_', block_id(block))}"
+        folder.mkdir()
+        _stand_ins(folder)
+        steps.append(
+            {"id": block_id(block), "lang": block.lang, "text": prepared(block), "folder": str(folder)}
+        )
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    results: dict[str, dict[str, object]] = {}
+    results_file = base / "results.jsonl"
+    while steps:
+        steps_file = base / "steps.json"
+        steps_file.write_text(json.dumps(steps))
+        try:
+            done = subprocess.run(
+                [sys.executable, str(RUNNER), str(steps_file), str(results_file)], cwd=base, env=env,
+                capture_output=True, text=True, timeout=TIMEOUT * len(steps), check=False,
+            )  # fmt: skip
+            tail = f"status {done.returncode}\n{done.stdout[-2000:]}\n{done.stderr[-3000:]}"
+        except subprocess.TimeoutExpired as exc:
+            tail = f"timed out after {exc.timeout} s"
+        if results_file.exists():
+            for line in results_file.read_text().splitlines():
+                result = json.loads(line)
+                results[str(result["id"])] = result
+        steps = [step for step in steps if step["id"] not in results]
+        if steps:  # the runner died in this block
+            results[steps[0]["id"]] = {
+                "id": steps[0]["id"],
+                "ok": False,
+                "report": f"the runner died: {tail}",
+            }
+            steps = steps[1:]
+    return results
+
+
+@pytest.fixture(scope="module")
+def outcomes(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict]:
+    """The results of every selected block that runs here (``-k PAGE`` runs that page's blocks only)."""
+    chosen = [
+        item.callspec.params["block"]
+        for item in request.session.items
+        if getattr(item, "originalname", None) == "test_doc_block_runs"
+        and item.callspec.params["block"].needs is None
+    ]
+    return run_blocks(chosen, tmp_path_factory.mktemp("docs"))
+
+
+@pytest.mark.parametrize("block", BLOCKS, ids=[block_id(b) for b in BLOCKS])
+def test_doc_block_runs(block: Block, outcomes: dict[str, dict]) -> None:
+    """The block runs without error (imports, files and commands included), made small."""
+    if block.needs is not None:
+        pytest.skip(f"{block.page}:{block.line} needs {block.needs}")
+    result = outcomes[block_id(block)]
+    where = f"{block_id(block)} ({block.lang}, as run):\n{textwrap.indent(prepared(block), '    ')}"
+    assert result["ok"], f"{where}\n{result['report']}"
+
+
+def test_runner_reports_each_block(tmp_path: Path) -> None:
+    """The runner reports each block: failures with their output, repeats of pure commands not rerun.
+
+    A block that kills the interpreter fails alone: the next block still runs.
+    """
+    texts = [
+        ("python", "print('hello')"),
+        ("python", "print('before'); raise ValueError('broken block')"),
+        ("bash", "gb-pin --version"),
+        ("bash", "gb-pin robots --frames no_such_robot"),
+        ("bash", "gb-pin --version\necho from-bash > out.txt && test -s out.txt"),
+        ("python", "import os; os._exit(7)"),
+        ("bash", "false"),
+        ("python", "import sys; sys.exit(0)"),
+    ]
+    chosen = [Block("page.md", i, lang, text, None) for i, (lang, text) in enumerate(texts)]
+    results = run_blocks(chosen, tmp_path)
+    ok = [results[f"page.md:{i}"]["ok"] for i in range(len(texts))]
+    assert ok == [True, False, True, False, True, False, False, True]
+    broken = str(results["page.md:1"]["report"])
+    assert "before" in broken and "broken block" in broken
+    assert "no_such_robot" in str(results["page.md:3"]["report"])
+    assert "not run again" in str(results["page.md:4"]["report"])
+    assert "the runner died: status 7" in str(results["page.md:5"]["report"])
