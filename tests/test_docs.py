@@ -1,10 +1,10 @@
 """Every ```python and ```bash block of README.md and docs/*.md runs as written, so docs cannot go stale.
 
-Each block runs in a fresh interpreter or bash, in an empty folder holding small stand-ins for what a
-reader brings: ``my_arm.urdf`` (+ ``my_arm.srdf``), ``points.csv`` / ``poses.csv``, ``examples/`` and
-``my_driver`` (a Python object whose ``move_and_read(q)`` reads the kinematic SO-101). Runs are made
-small, the same way for every block (:func:`shrink`): ``--movements N`` / ``movements=N`` at most
-:data:`SMALL_MOVEMENTS`, trials at most 2, ``--samples`` at most 20, checkpoints every 20 movements.
+Each block runs in its own folder holding small stand-ins for what a reader brings: ``my_arm.urdf``
+(+ ``my_arm.srdf``), ``points.csv`` / ``poses.csv``, ``examples/`` and ``my_driver`` (a Python object
+whose ``move_and_read(q)`` reads the kinematic SO-101). Runs are made small, the same way for every
+block (:func:`shrink`): ``--movements N`` / ``movements=N`` at most :data:`SMALL_MOVEMENTS`, trials at
+most 2, ``--samples`` at most 20, checkpoints every 20 movements.
 
 Lines a test machine cannot run are left out by rule: ``pip install`` (the test's environment has the
 extras), a venv prefix (``python3 -m venv .venv && .venv/bin/pip install ... &&``: the rest runs here),
@@ -17,6 +17,12 @@ machine lacks says so, and is skipped with that reason: ``# needs: WHAT`` on its
 ``browser``, ``a SLURM cluster``, ``a long run (...)``.
 
 New blocks (other pages, other sections) are picked up without any change here.
+
+The blocks run in one interpreter (:mod:`docs_runner`, started once for all selected blocks): each
+python block in a fresh namespace, each ``gb-pin`` command of a bash block through
+:func:`gb_pin.cli.main`, other bash lines in bash; numba's kernels, Pinocchio's models and MuJoCo are
+loaded once, not once a block (a new interpreter a block cost about 10 minutes of CI). A block that
+kills the interpreter fails alone: a new runner takes the blocks after it.
 """
 
 from __future__ import annotations
@@ -39,11 +45,9 @@ FENCE = re.compile(
     r"(?:^<!--\s*needs:\s*(?P<html>.*?)\s*-->\n)?^```(?P<lang>python|bash)\n(?P<body>.*?)^```", re.M | re.S
 )
 SMALL_MOVEMENTS = 60
-TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s per process)
+TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s)
 
-pytestmark = (
-    pytest.mark.slow
-)  # about 3-4 minutes for all pages on the 2-core machine: not in the quick subset
+pytestmark = pytest.mark.slow  # every docs block: not in the quick subset
 
 
 class Block(NamedTuple):
