@@ -13,7 +13,8 @@ output included):
   A ``gb-pin`` command that writes nothing and reads no file of its folder, identical to one that
   passed before in this run, is not run again (the same command on the same inputs).
 
-Each result is appended to RESULTS.jsonl as soon as the block ends (``{"id", "ok", "report"}``), so a
+Each result is appended to RESULTS.jsonl as soon as the block ends (``{"id", "ok", "report", "seconds"}``:
+CPU and wall seconds; ``DOCS_TIMES=FILE pytest tests/test_docs.py`` writes them all to FILE), so a
 block that kills the interpreter loses nothing of the others: tests/test_docs.py starts a new runner
 for the blocks after it. The interpreter is the one a reader's would be after its first block: numba's
 compiled kernels, Pinocchio's models and MuJoCo loaded once instead of once a block (tests/test_docs.py
@@ -25,11 +26,13 @@ from __future__ import annotations
 import json
 import os
 import re
+import resource
 import shlex
 import signal
 import subprocess
 import sys
 import tempfile
+import time
 import traceback
 from pathlib import Path
 from typing import Any
@@ -138,6 +141,7 @@ def run_step(step: dict[str, str], passed: dict[str, str]) -> dict[str, Any]:
     """One block in its folder; the result line."""
     folder = Path(step["folder"])
     home = os.getcwd()
+    cpu, wall = _cpu(), time.perf_counter()
     ok, notes, failure = True, [], ""
     with Captured() as out:
         os.chdir(folder)
@@ -158,7 +162,14 @@ def run_step(step: dict[str, str], passed: dict[str, str]) -> dict[str, Any]:
                 sys.modules["matplotlib.pyplot"].close("all")
     output = out.text()
     report = "\n".join(notes) if ok else f"{output}\n{failure}"
-    return {"id": step["id"], "ok": ok, "report": report}
+    seconds = {"cpu": round(_cpu() - cpu, 3), "wall": round(time.perf_counter() - wall, 3)}
+    return {"id": step["id"], "ok": ok, "report": report, "seconds": seconds}
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of the subprocesses it waited for."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def main(steps_file: str, results_file: str) -> None:

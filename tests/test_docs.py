@@ -282,7 +282,11 @@ def outcomes(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFa
         if getattr(item, "originalname", None) == "test_doc_block_runs"
         and item.callspec.params["block"].needs is None
     ]
-    return run_blocks(chosen, tmp_path_factory.mktemp("docs"))
+    results = run_blocks(chosen, tmp_path_factory.mktemp("docs"))
+    if os.environ.get("DOCS_TIMES"):  # each block's CPU and wall seconds, for finding the slow ones
+        times = {key: result.get("seconds") for key, result in results.items()}
+        Path(os.environ["DOCS_TIMES"]).write_text(json.dumps(times, indent=1) + "\n")
+    return results
 
 
 @pytest.mark.parametrize("block", BLOCKS, ids=[block_id(b) for b in BLOCKS])
