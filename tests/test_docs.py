@@ -45,6 +45,10 @@ FENCE = re.compile(
     r"(?:^<!--\s*needs:\s*(?P<html>.*?)\s*-->\n)?^```(?P<lang>python|bash)\n(?P<body>.*?)^```", re.M | re.S
 )
 SMALL_MOVEMENTS = 60
+# A run watched by a rendered camera reads a picture per ask (about 50 ms of CPU each on Mesa's
+# llvmpipe: 60 movements cost 80 s): such runs are made smaller still.
+CAMERA_MOVEMENTS = 8
+CAMERA = re.compile(r"--sensor\b|\bCameraSensor\b")
 TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s)
 
 pytestmark = pytest.mark.slow  # every docs block: not in the quick subset
@@ -82,11 +86,11 @@ def _at_most(limit: int):  # type: ignore[no-untyped-def]
     return replace
 
 
-def shrink(text: str) -> str:
+def shrink(text: str, movements: int = SMALL_MOVEMENTS) -> str:
     """The block with small runs: the same commands and calls, fewer movements, trials, samples."""
     for pattern, limit in (
-        (r"(--movements[ =])([\d_]+)", SMALL_MOVEMENTS),
-        (r"(\bmovements=)([\d_]+)", SMALL_MOVEMENTS),
+        (r"(--movements[ =])([\d_]+)", movements),
+        (r"(\bmovements=)([\d_]+)", movements),
         (r"(--trials[ =])(\d+)", 2),
         (r"(\btrials=)(\d+)", 2),
         (r"(--samples[ =])(\d+)", 20),
@@ -210,6 +214,8 @@ def test_shrink_and_rules() -> None:
         line == "gb-pin bench --ik --protocol trac-ik --samples 20 --movements 60 --paths 2  # the protocol"
     )
     assert bash_lines("gb-pin reproduce hardware --out x").startswith("#")
+    camera = Block("p.md", 1, "bash", "gb-pin babble --sensor aruco:id=7 --movements 3000  # cam\n", None)
+    assert prepared(camera) == f"gb-pin babble --sensor aruco:id=7 --movements {CAMERA_MOVEMENTS}  # cam"
     assert (
         bash_lines("python x.py --crash-at 20  # then") == "python x.py --crash-at 20 || [ $? -eq 3 ]  # then"
     )
@@ -219,10 +225,15 @@ def prepared(block: Block) -> str:
     """The block's text as it runs here: made small, the lines left out commented, a driver stand-in."""
     text = shrink(block.text)
     if block.lang == "python":
+        if CAMERA.search(text):
+            text = shrink(text, CAMERA_MOVEMENTS)
         if re.search(r"\bmy_driver\b", text) and not re.search(r"^my_driver\s*=", text, re.M):
             text = STAND_IN_DRIVER + text
         return text
-    return bash_lines(text)
+    lines = bash_lines(text).splitlines()
+    return "\n".join(
+        shrink(ln, CAMERA_MOVEMENTS) if CAMERA.search(ln.partition(" #")[0]) else ln for ln in lines
+    )
 
 
 def block_id(block: Block) -> str:
