@@ -47,7 +47,7 @@ FENCE = re.compile(
 SMALL_MOVEMENTS = 60
 # A run watched by a rendered camera reads a picture per ask (about 50 ms of CPU each on Mesa's
 # llvmpipe: 60 movements cost 80 s): such runs are made smaller still.
-CAMERA_MOVEMENTS = 8
+CAMERA_MOVEMENTS = 4
 CAMERA = re.compile(r"--sensor\b|\bCameraSensor\b")
 TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s)
 
