@@ -324,11 +324,13 @@ def test_runner_reports_each_block(tmp_path: Path) -> None:
         ("python", "import os; os._exit(7)"),
         ("bash", "false"),
         ("python", "import sys; sys.exit(0)"),
+        ("python", "import sys\nsys.path.insert(0, 'examples')\nfrom numpy_inverse import load_inverse"),
+        ("python", "from numpy_inverse import load_inverse  # the earlier block's sys.path is gone"),
     ]
     chosen = [Block("page.md", i, lang, text, None) for i, (lang, text) in enumerate(texts)]
     results = run_blocks(chosen, tmp_path)
     ok = [results[f"page.md:{i}"]["ok"] for i in range(len(texts))]
-    assert ok == [True, False, True, False, True, False, False, True]
+    assert ok == [True, False, True, False, True, False, False, True, True, False]
     broken = str(results["page.md:1"]["report"])
     assert "before" in broken and "broken block" in broken
     assert "no_such_robot" in str(results["page.md:3"]["report"])
