@@ -2,7 +2,7 @@
 
 The trials are read from the cache of ``gb-pin reproduce`` (``OUT/trials/*.json``). To make it::
 
-    gb-pin reproduce fig4 fig5 fig7 --out docs/figures            # 100 trials x 10^4 movements, ~20 min
+    gb-pin reproduce fig4 fig5 fig7 --out docs/figures --overwrite   # 100 trials x 10^4 movements, ~20 min
 
 A condition missing from the cache is run here instead (and not saved), so small options run out of
 the box in seconds::

@@ -122,12 +122,21 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument(
         "--out", default=None, help="rewrite the tables in this markdown file after each preset"
     )
+    parser.add_argument(
+        "--overwrite", "--force", action="store_true", help="let --out replace an existing file"
+    )
     args = parser.parse_args(argv)
     names = [n.strip() for n in args.robots.split(",") if n.strip()]
     if args.out is not None:
         from gb_pin._files import check_writable
+        from gb_pin.cli.checks import no_clobber
+        from gb_pin.exceptions import GbPinError
 
-        check_writable(args.out, "--out")  # before any work
+        try:  # before any work
+            check_writable(args.out, "--out")
+            no_clobber(args.out, "--out", args.overwrite)
+        except GbPinError as exc:
+            parser.exit(2, f"tune_presets.py: error: {exc}\n")
 
     tables = {
         "homes": [

@@ -282,7 +282,7 @@ def read_urdf(path: Path) -> None:
 def read_plot(path: Path) -> None:
     from gb_pin.cli import main
 
-    code = main(["plot", str(path), "-o", str(path.with_suffix(".png"))])
+    code = main(["plot", str(path), "-o", str(path.with_suffix(".png")), "--overwrite"])
     if code:
         raise gb_pin.GbPinError(f"gb-pin plot exited with status {code}")
 

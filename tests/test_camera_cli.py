@@ -27,6 +27,7 @@ def test_camera_errors_are_one_line_before_anything_moves(capsys) -> None:  # ty
     )
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 @pytest.mark.parametrize("mode", ["uv"])  # (xyz: tests/test_camera_plant.py)
 def test_a_camera_run_from_the_cli(capsys, mode: str) -> None:  # type: ignore[no-untyped-def]
     """A few movements in the camera's frame (goals taught at the corners); pixels scaled by depth / f."""

@@ -54,6 +54,7 @@ def test_babble_help_has_a_description_and_examples() -> None:
         assert example in text
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_trials_take_a_model_robot_and_each_worker_rebuilds_it(tmp_path: Path, capsys: Any) -> None:
     """`gb-pin trials --robot FILE.urdf --frame ...`: "unknown robot" before; trial i = babble with seed i.
 

@@ -61,6 +61,7 @@ def test_worker_errors_reach_the_caller(cluster) -> None:  # type: ignore[no-unt
         )
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_unreachable_scheduler_is_a_clear_error(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """A scheduler nobody listens on gives GbPinError naming the address, not a Dask traceback."""
     monkeypatch.setattr(gb_pin.experiments.distributed, "CONNECT_TIMEOUT", 1.0)

@@ -1,10 +1,10 @@
 """Every ```python and ```bash block of README.md and docs/*.md runs as written, so docs cannot go stale.
 
-Each block runs in a fresh interpreter or bash, in an empty folder holding small stand-ins for what a
-reader brings: ``my_arm.urdf`` (+ ``my_arm.srdf``), ``points.csv`` / ``poses.csv``, ``examples/`` and
-``my_driver`` (a Python object whose ``move_and_read(q)`` reads the kinematic SO-101). Runs are made
-small, the same way for every block (:func:`shrink`): ``--movements N`` / ``movements=N`` at most
-:data:`SMALL_MOVEMENTS`, trials at most 2, ``--samples`` at most 20, checkpoints every 20 movements.
+Each block runs in its own folder holding small stand-ins for what a reader brings: ``my_arm.urdf``
+(+ ``my_arm.srdf``), ``points.csv`` / ``poses.csv``, ``examples/`` and ``my_driver`` (a Python object
+whose ``move_and_read(q)`` reads the kinematic SO-101). Runs are made small, the same way for every
+block (:func:`shrink`): ``--movements N`` / ``movements=N`` at most :data:`SMALL_MOVEMENTS`, trials at
+most 2, ``--samples`` at most 20, checkpoints every 20 movements.
 
 Lines a test machine cannot run are left out by rule: ``pip install`` (the test's environment has the
 extras), a venv prefix (``python3 -m venv .venv && .venv/bin/pip install ... &&``: the rest runs here),
@@ -17,10 +17,17 @@ machine lacks says so, and is skipped with that reason: ``# needs: WHAT`` on its
 ``browser``, ``a SLURM cluster``, ``a long run (...)``.
 
 New blocks (other pages, other sections) are picked up without any change here.
+
+The blocks run in one interpreter (:mod:`docs_runner`, started once for all selected blocks): each
+python block in a fresh namespace, each ``gb-pin`` command of a bash block through
+:func:`gb_pin.cli.main`, other bash lines in bash; numba's kernels, Pinocchio's models and MuJoCo are
+loaded once, not once a block (a new interpreter a block cost about 10 minutes of CI). A block that
+kills the interpreter fails alone: a new runner takes the blocks after it.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -32,16 +39,19 @@ from typing import NamedTuple
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+RUNNER = Path(__file__).resolve().with_name("docs_runner.py")
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 FENCE = re.compile(
     r"(?:^<!--\s*needs:\s*(?P<html>.*?)\s*-->\n)?^```(?P<lang>python|bash)\n(?P<body>.*?)^```", re.M | re.S
 )
 SMALL_MOVEMENTS = 60
-TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s per process)
+# A run watched by a rendered camera reads a picture per ask (about 50 ms of CPU each on Mesa's
+# llvmpipe: 60 movements cost 80 s): such runs are made smaller still.
+CAMERA_MOVEMENTS = 4
+CAMERA = re.compile(r"--sensor\b|\bCameraSensor\b")
+TIMEOUT = 600  # seconds a block may take (a cold numba cache compiles for 10-20 s)
 
-pytestmark = (
-    pytest.mark.slow
-)  # about 3-4 minutes for all pages on the 2-core machine: not in the quick subset
+pytestmark = pytest.mark.slow  # every docs block: not in the quick subset
 
 
 class Block(NamedTuple):
@@ -76,11 +86,11 @@ def _at_most(limit: int):  # type: ignore[no-untyped-def]
     return replace
 
 
-def shrink(text: str) -> str:
+def shrink(text: str, movements: int = SMALL_MOVEMENTS) -> str:
     """The block with small runs: the same commands and calls, fewer movements, trials, samples."""
     for pattern, limit in (
-        (r"(--movements[ =])([\d_]+)", SMALL_MOVEMENTS),
-        (r"(\bmovements=)([\d_]+)", SMALL_MOVEMENTS),
+        (r"(--movements[ =])([\d_]+)", movements),
+        (r"(\bmovements=)([\d_]+)", movements),
         (r"(--trials[ =])(\d+)", 2),
         (r"(\btrials=)(\d+)", 2),
         (r"(--samples[ =])(\d+)", 20),
@@ -204,29 +214,125 @@ def test_shrink_and_rules() -> None:
         line == "gb-pin bench --ik --protocol trac-ik --samples 20 --movements 60 --paths 2  # the protocol"
     )
     assert bash_lines("gb-pin reproduce hardware --out x").startswith("#")
+    camera = Block("p.md", 1, "bash", "gb-pin babble --sensor aruco:id=7 --movements 3000  # cam\n", None)
+    assert prepared(camera) == f"gb-pin babble --sensor aruco:id=7 --movements {CAMERA_MOVEMENTS}  # cam"
     assert (
         bash_lines("python x.py --crash-at 20  # then") == "python x.py --crash-at 20 || [ $? -eq 3 ]  # then"
     )
 
 
-@pytest.mark.parametrize("block", BLOCKS, ids=[f"{b.page}:{b.line}" for b in BLOCKS])
-def test_doc_block_runs(block: Block, tmp_path: Path) -> None:
+def prepared(block: Block) -> str:
+    """The block's text as it runs here: made small, the lines left out commented, a driver stand-in."""
+    text = shrink(block.text)
+    if block.lang == "python":
+        if CAMERA.search(text):
+            text = shrink(text, CAMERA_MOVEMENTS)
+        if re.search(r"\bmy_driver\b", text) and not re.search(r"^my_driver\s*=", text, re.M):
+            text = STAND_IN_DRIVER + text
+        return text
+    lines = bash_lines(text).splitlines()
+    return "\n".join(
+        shrink(ln, CAMERA_MOVEMENTS) if CAMERA.search(ln.partition(" #")[0]) else ln for ln in lines
+    )
+
+
+def block_id(block: Block) -> str:
+    return f"{block.page}:{block.line}"
+
+
+def run_blocks(chosen: list[Block], base: Path) -> dict[str, dict[str, object]]:
+    """Run the blocks in tests/docs_runner.py, one interpreter for all of them; the result of each.
+
+    Each block gets its own folder with the stand-ins. If the runner dies (a segfault, a timeout),
+    the block it was running fails with what it printed, and a new runner takes the rest.
+    """
+    steps = []
+    for i, block in enumerate(chosen):
+        folder = base / f"{i:02d}_{re.sub(r'[^A-Za-z0-9]+', '_', block_id(block))}"
+        folder.mkdir()
+        _stand_ins(folder)
+        steps.append(
+            {"id": block_id(block), "lang": block.lang, "text": prepared(block), "folder": str(folder)}
+        )
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    results: dict[str, dict[str, object]] = {}
+    results_file = base / "results.jsonl"
+    while steps:
+        steps_file = base / "steps.json"
+        steps_file.write_text(json.dumps(steps))
+        try:
+            done = subprocess.run(
+                [sys.executable, str(RUNNER), str(steps_file), str(results_file)], cwd=base, env=env,
+                capture_output=True, text=True, timeout=TIMEOUT * len(steps), check=False,
+            )  # fmt: skip
+            tail = f"status {done.returncode}\n{done.stdout[-2000:]}\n{done.stderr[-3000:]}"
+        except subprocess.TimeoutExpired as exc:
+            tail = f"timed out after {exc.timeout} s"
+        if results_file.exists():
+            for line in results_file.read_text().splitlines():
+                result = json.loads(line)
+                results[str(result["id"])] = result
+        steps = [step for step in steps if step["id"] not in results]
+        if steps:  # the runner died in this block
+            results[steps[0]["id"]] = {
+                "id": steps[0]["id"],
+                "ok": False,
+                "report": f"the runner died: {tail}",
+            }
+            steps = steps[1:]
+    return results
+
+
+@pytest.fixture(scope="module")
+def outcomes(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict]:
+    """The results of every selected block that runs here (``-k PAGE`` runs that page's blocks only)."""
+    chosen = [
+        item.callspec.params["block"]
+        for item in request.session.items
+        if getattr(item, "originalname", None) == "test_doc_block_runs"
+        and item.callspec.params["block"].needs is None
+    ]
+    results = run_blocks(chosen, tmp_path_factory.mktemp("docs"))
+    if os.environ.get("DOCS_TIMES"):  # each block's CPU and wall seconds, for finding the slow ones
+        times = {key: result.get("seconds") for key, result in results.items()}
+        Path(os.environ["DOCS_TIMES"]).write_text(json.dumps(times, indent=1) + "\n")
+    return results
+
+
+@pytest.mark.parametrize("block", BLOCKS, ids=[block_id(b) for b in BLOCKS])
+def test_doc_block_runs(block: Block, outcomes: dict[str, dict]) -> None:
     """The block runs without error (imports, files and commands included), made small."""
     if block.needs is not None:
         pytest.skip(f"{block.page}:{block.line} needs {block.needs}")
-    _stand_ins(tmp_path)
-    env = {**os.environ, "MPLBACKEND": "Agg"}
-    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
-    text = shrink(block.text)
-    if block.lang == "python":
-        if re.search(r"\bmy_driver\b", text) and not re.search(r"^my_driver\s*=", text, re.M):
-            text = STAND_IN_DRIVER + text
-        command = [sys.executable, "-c", text]
-    else:
-        text = bash_lines(text)
-        command = ["bash", "-e", "-o", "pipefail", "-c", text]
-    done = subprocess.run(
-        command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=TIMEOUT, check=False
-    )
-    where = f"{block.page}:{block.line} ({block.lang}, as run):\n{textwrap.indent(text, '    ')}"
-    assert done.returncode == 0, f"{where}\n{done.stdout[-2000:]}\n{done.stderr[-3000:]}"
+    result = outcomes[block_id(block)]
+    where = f"{block_id(block)} ({block.lang}, as run):\n{textwrap.indent(prepared(block), '    ')}"
+    assert result["ok"], f"{where}\n{result['report']}"
+
+
+def test_runner_reports_each_block(tmp_path: Path) -> None:
+    """The runner reports each block: failures with their output, repeats of pure commands not rerun.
+
+    A block that kills the interpreter fails alone: the next block still runs.
+    """
+    texts = [
+        ("python", "print('hello')"),
+        ("python", "print('before'); raise ValueError('broken block')"),
+        ("bash", "gb-pin --version"),
+        ("bash", "gb-pin robots --frames no_such_robot"),
+        ("bash", "gb-pin --version\necho from-bash > out.txt && test -s out.txt"),
+        ("python", "import os; os._exit(7)"),
+        ("bash", "false"),
+        ("python", "import sys; sys.exit(0)"),
+        ("python", "import sys\nsys.path.insert(0, 'examples')\nfrom numpy_inverse import load_inverse"),
+        ("python", "from numpy_inverse import load_inverse  # the earlier block's sys.path is gone"),
+    ]
+    chosen = [Block("page.md", i, lang, text, None) for i, (lang, text) in enumerate(texts)]
+    results = run_blocks(chosen, tmp_path)
+    ok = [results[f"page.md:{i}"]["ok"] for i in range(len(texts))]
+    assert ok == [True, False, True, False, True, False, False, True, True, False]
+    broken = str(results["page.md:1"]["report"])
+    assert "before" in broken and "broken block" in broken
+    assert "no_such_robot" in str(results["page.md:3"]["report"])
+    assert "not run again" in str(results["page.md:4"]["report"])
+    assert "the runner died: status 7" in str(results["page.md:5"]["report"])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -213,3 +214,110 @@ def test_robots_md_lists_every_preset() -> None:
     listing = text.split("`gb-pin robots` prints:\n\n```\n", 1)[1].split("```", 1)[0]
     for line in format_presets().splitlines():
         assert line in listing.splitlines(), f"docs/ROBOTS.md's listing lacks: {line}"
+
+
+def test_robots_md_results_table_has_every_preset() -> None:
+    """docs/ROBOTS.md's results table (`gb-pin robots --benchmark`) has a row for every preset.
+
+    Its axes as `gb-pin robots` labels them (xyz+R, xyz+d, xyz+xyz for the task presets).
+    """
+    from gb_pin.robot.presets import format_presets
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "ROBOTS.md").read_text()
+    table = text.split("<!-- robots-benchmark:begin", 1)[1].split("<!-- robots-benchmark:end", 1)[0]
+    rows = {line.split("|")[1].strip(): line.split("|")[4].strip() for line in table.splitlines()[4:]}
+    for line in format_presets().splitlines()[1:]:
+        name, axes = line.split()[0], line.split()[2]
+        names = ["planar5", "planar20"] if name == "planarN" else [name]
+        for n in names:
+            assert rows.get(n) == axes, f"docs/ROBOTS.md's results table: {n} {rows.get(n)!r}, not {axes}"
+
+
+def _refuses(argv: list[str], existing: Path, capsys: Any) -> None:
+    """The command exits 2 with one line naming ``existing`` and --overwrite; the file is untouched."""
+    existing.write_bytes(b"keep me")
+    capsys.readouterr()
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert str(existing) in err and "--overwrite (or --force)" in err and "exists" in err
+    assert existing.read_bytes() == b"keep me"
+
+
+LONG = ["--trials", "100000", "--movements", "1000000"]  # hours of work, if the check came after it
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        "trials --robot planar5 {LONG} --json {F}",
+        "robots --benchmark --robots planar5 {LONG} --json {F}",
+        "robots --benchmark --robots planar5 {LONG} --figure {F}",
+        "replay {D}/missing.npz --html {F}",
+        "show {D}/missing.npz --html {F}",
+        "plot {D}/missing.npz -o {F}",
+        "plot {D}/curve.npz",  # the default figure, FILE.png
+        "reproduce fig3 fig5 {LONG} --out {D}",
+        "reproduce hardware {LONG} --out {D}",
+        "reproduce workspace {LONG} --out {D}",
+        "reproduce goals {LONG} --out {D}",
+        "babble --robot so101 --arm feetech:port={D}/tty,calibration={D}/cal.json --tracker {D}/trk.py:hand "
+        "--movements 1000000 --out {F}",
+    ],
+)
+def test_every_output_file_is_refused_before_work_unless_overwrite(
+    command: str, tmp_path: Path, capsys: Any
+) -> None:
+    """Every command that writes a file refuses an existing one before any work, as `babble --out` does.
+
+    The runs asked for here would take hours: the check comes first. Same option, same message.
+    """
+    (tmp_path / "trk.py").write_text("def hand():\n    return None\n")
+    existing = tmp_path / "out.file"
+    defaults = {
+        "plot {D}/curve.npz": "curve.png",
+        "reproduce fig3": "fig5.png",
+        "reproduce hardware": "hardware.md",
+        "reproduce workspace": "workspace.md",
+        "reproduce goals": "goals.md",
+    }
+    for start, name in defaults.items():
+        if command.startswith(start):
+            existing = tmp_path / name
+    argv = (
+        command.replace("{LONG}", " ".join(LONG)).replace("{F}", str(existing)).replace("{D}", str(tmp_path))
+    )
+    _refuses(argv.split(), existing, capsys)
+
+
+def test_overwrite_replaces_the_files_of_plot_and_trials(tmp_path: Path, capsys: Any) -> None:
+    """--overwrite (or --force) lets the output replace the file, as for babble --out."""
+    trials, figure = tmp_path / "trials.json", tmp_path / "trials.png"
+    args = ["trials", "--robot", "planar5", "--trials", "2", "--movements", "20", "--quiet", "--workers", "1"]
+    assert main([*args, "--json", str(trials)]) == 0
+    _refuses([*args, "--json", str(trials)], trials, capsys)
+    assert main([*args, "--json", str(trials), "--force"]) == 0
+    assert gb_pin.TrialSet.load(trials).movements[-1] == 20
+    assert main(["plot", str(trials)]) == 0 and figure.stat().st_size > 0
+    _refuses(["plot", str(trials)], figure, capsys)
+    assert main(["plot", str(trials), "--overwrite"]) == 0 and figure.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_tune_presets_refuses_an_existing_out(tmp_path: Path, capsys: Any, monkeypatch: Any) -> None:
+    """scripts/tune_presets.py --out: the same rule (it rewrites its tables there after each preset)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "tune_presets", Path(__file__).parents[1] / "scripts/tune_presets.py"
+    )
+    assert spec is not None and spec.loader is not None
+    tune = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "tune_presets", tune)  # its dataclasses look their module up
+    spec.loader.exec_module(tune)
+    out = tmp_path / "tune.md"
+    out.write_text("keep me")
+    with pytest.raises(SystemExit) as exc:
+        tune.main(["--robots", "so101", "--seeds", "1000", "--out", str(out)])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert str(out) in err and "--overwrite (or --force)" in err and out.read_text() == "keep me"

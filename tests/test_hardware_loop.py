@@ -22,6 +22,7 @@ from gb_pin.hardware.emulator import Emulator
 from gb_pin.ik import solve
 
 
+@pytest.mark.slow  # heavy in CPU, timed against Ctrl-C (issue 35): not in -m 'not slow'
 def test_cli_babbles_on_the_arm_survives_ctrl_c_and_resumes(tmp_path: Path) -> None:
     with Emulator(seed=2, speed=60000) as bus:
         calibration = tmp_path / "arm.json"

@@ -265,6 +265,7 @@ while not session.done:
 """
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_a_session_killed_by_sigkill_resumes_bit_identical(tmp_path: Path) -> None:
     """SIGKILL a session on a Python forward model; resumed with its readings replayed, it is one run."""
     import os

@@ -341,6 +341,7 @@ def test_a_cpu_clock_budget_and_a_bad_clock(pose) -> None:  # type: ignore[no-un
         solve(pose, x, seed="home", timeout=2e-3, clock="tsc")
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_the_protocol_command_prints_its_table(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     """`gb-pin bench --ik --protocol trac-ik`: every gb_pin row (TRAC-IK's too when pytracik is there)."""
     from gb_pin.cli import main

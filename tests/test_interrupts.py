@@ -24,6 +24,7 @@ def _interrupt_after(seconds: float) -> threading.Timer:
     return timer
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_ctrl_c_ends_a_long_ik_solve_within_a_second() -> None:
     """An unreachable target with a 60 s budget: Ctrl-C after 0.3 s ends the call within 2 s."""
     arm = gb_pin.load_robot("planar5")

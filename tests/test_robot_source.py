@@ -156,7 +156,7 @@ def test_a_module_robot_is_recorded_but_never_imported_from_a_file(tmp_path: Pat
     assert "--robot" in capsys.readouterr().err
     assert main(["plot", str(out), "-o", str(tmp_path / "m.png")]) == 0  # curves need no robot
     assert marker.read_text() == imports  # the module was not run
-    assert main(["plot", str(out), "-o", str(tmp_path / "m.png"), "--robot", spec]) == 0  # the user's choice
+    assert main(["plot", str(out), "-o", str(tmp_path / "m2.png"), "--robot", spec]) == 0  # the user's choice
     robot_spec._LOADED.clear()
 
 

@@ -54,6 +54,7 @@ def test_obstacles_are_checked_and_parsed() -> None:
     assert POST.contains(pts, margin=0.011).tolist() == [True, True, False]
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_a_far_obstacle_changes_nothing_bit_for_bit() -> None:
     """A checked run whose asks are all safe is babble()'s run, bit for bit (the check draws nothing)."""
     plain = gb_pin.babble("so101", movements=20, seed=3)
@@ -183,6 +184,7 @@ def test_mujoco_plant_with_contacts_agrees_with_the_checker_and_counts_no_contac
     assert plant.contacts > 0
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_preset_safety_table_and_cli_options(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -273,6 +275,7 @@ def _exact_cut(checker: CollisionChecker, a: np.ndarray, b: np.ndarray) -> tuple
     return b, True, n
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 @pytest.mark.parametrize("scene", ["so101", "panda"])
 def test_prefiltered_checks_give_coals_exact_verdicts_and_cuts(scene: str) -> None:
     """The compiled bounding-sphere prefilter drops no pair coal finds within the clearance.

@@ -38,6 +38,7 @@ def test_executed_equal_to_the_asked_posture_is_bit_identical() -> None:
             np.testing.assert_array_equal(b.model.to_arrays()[key], value, err_msg=key)
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_learning_from_the_executed_posture_beats_learning_from_the_asked_one() -> None:
     """With noisy execution the pair (x, executed q) is exact, (x, asked q) is not.
 

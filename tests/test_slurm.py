@@ -148,6 +148,7 @@ def test_slurm_spec_builds_the_cluster(cluster, monkeypatch: pytest.MonkeyPatch)
     assert fake.jobs == 3 and fake.closed  # type: ignore[attr-defined]
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_cli_refuses_a_bad_slurm_spec(capsys: pytest.CaptureFixture[str]) -> None:
     """`gb-pin trials --scheduler slurm:...` with a bad spec fails with the message, not a traceback."""
     from gb_pin.cli import main

@@ -157,6 +157,7 @@ def test_a_workspace_run_scales_its_settings_and_measures_separate_test_points()
     ) and explicit.goal_targets.shape == (1000, 3)
 
 
+@pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'
 def test_own_targets_keep_the_presets_settings_and_given_sets_only_scale_up() -> None:
     own = gb_pin.babble("so101", movements=5)
     same = gb_pin.babble("so101", movements=5, targets=own.target.targets)

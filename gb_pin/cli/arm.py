@@ -15,6 +15,7 @@ from typing import Any
 
 from gb_pin._files import check_writable
 from gb_pin._names import suggest
+from gb_pin.cli.checks import no_clobber
 from gb_pin.exceptions import InvalidArgumentError
 
 KEYS = {
@@ -132,6 +133,7 @@ def run_arm(args: argparse.Namespace, progress_bar: Any) -> int:
     for path, option in ((checkpoint, "--checkpoint"), (args.out, "--out")):
         if path is not None:
             check_writable(path, option)
+    no_clobber(args.out, "--out", getattr(args, "overwrite", False))
     from gb_pin.hardware import FeetechArm
     from gb_pin.hardware.babbling import babble_on_arm
 

@@ -20,6 +20,7 @@ from gb_pin.cli.arm import add_arm_options
 from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
+    add_overwrite,
     add_quiet,
     add_robot_options,
     learner_values,
@@ -86,12 +87,7 @@ def _add_options(b: argparse.ArgumentParser) -> None:
         default=None,
         help="save the result to this .npz file (an existing one only with --overwrite)",
     )
-    b.add_argument(
-        "--overwrite",
-        "--force",
-        action="store_true",
-        help="let --out replace an existing file (without it, the run refuses before it starts)",
-    )
+    add_overwrite(b, "--out")
     _add_checkpoint_options(b)
     _add_record_options(b)
     _add_view_options(b)

@@ -39,6 +39,13 @@ def no_clobber(path: Any, option: str, overwrite: bool) -> None:
         )
 
 
+def fresh_outputs(args: argparse.Namespace, **options: str) -> None:
+    """:func:`outputs`, and :func:`no_clobber` for each (``--overwrite`` lets them replace files)."""
+    outputs(args, **options)
+    for attribute, option in options.items():
+        no_clobber(getattr(args, attribute, None), option, getattr(args, "overwrite", False))
+
+
 def finite(option: str, value: Any, minimum: float = 0.0, strict: bool = False) -> None:
     """Raise unless ``value`` is None or a finite number >= ``minimum`` (> where ``strict``)."""
     if value is None:

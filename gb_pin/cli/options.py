@@ -89,6 +89,20 @@ def add_port(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--port", type=int, default=None, help="viewer port (default: first free from 7000)")
 
 
+def add_overwrite(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--overwrite`` (or ``--force``): let the command's output files replace existing ones.
+
+    Without it a command whose output file exists refuses before any work, in one line naming the
+    file (:func:`gb_pin.cli.checks.no_clobber`): two runs never silently replace each other's files.
+    """
+    parser.add_argument(
+        "--overwrite",
+        "--force",
+        action="store_true",
+        help=f"let {what} replace an existing file (without it, the command refuses before it starts)",
+    )
+
+
 def add_html(parser: argparse.ArgumentParser) -> None:
     """``--html``: write one offline file instead of serving."""
     parser.add_argument("--html", default=None, help="write one self-contained HTML file instead of serving")

@@ -6,7 +6,7 @@ import argparse
 import os
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_model_options, result_robot
+from gb_pin.cli.options import add_model_options, add_overwrite, result_robot
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -32,6 +32,7 @@ def _add_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "-o", "--out", default=None, help="the figure (.png, .svg or .pdf; default: FILE with .png)"
     )
+    add_overwrite(p, "--out")
     add_model_options(p, robot=True)
     p.set_defaults(func=run)
 
@@ -43,6 +44,9 @@ def run(args: argparse.Namespace) -> int:
         from gb_pin.exceptions import InvalidArgumentError
 
         raise InvalidArgumentError(f"--out {out!r} would overwrite the input file")
+    from gb_pin.cli.checks import no_clobber
+
+    no_clobber(out, "--out", args.overwrite)  # FILE.png by default: a second plot asks for --overwrite
     if args.file.lower().endswith(".json"):
         from gb_pin.experiments.trialset import TrialSet
 

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import os
 from typing import TYPE_CHECKING
 
 from gb_pin.cli.options import (
     ROBOT_HELP,
     add_model_options,
+    add_overwrite,
     add_quiet,
     add_trial_seed,
     add_workers,
@@ -51,6 +53,7 @@ def _add_options(p: argparse.ArgumentParser) -> None:
         help="workspace: comma-separated fractions of the joint ranges (default 0.25,0.5)",
     )
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
+    add_overwrite(p, "the figures and tables in --out (its cached trials are reused either way)")
     p.add_argument(
         "--trials", type=int, default=None, help="trials per condition (default 100, the paper's; goals: 20)"
     )
@@ -79,12 +82,26 @@ def _add_options(p: argparse.ArgumentParser) -> None:
     p.set_defaults(func=run)
 
 
+REPORTS = {"hardware": "hardware.md", "workspace": "workspace.md", "goals": "goals.md"}
+
+
+def _reports(figures: list[str]) -> list[str]:
+    """The files in OUT that say a reproduction of ``figures`` was finished there (report, figures)."""
+    if len(figures) == 1 and figures[0] in REPORTS:
+        return [REPORTS[figures[0]]]
+    from gb_pin.reproduce.conditions import expand
+
+    return [f"{name}.png" for name in expand(figures) if name != "throughput"]
+
+
 def run(args: argparse.Namespace) -> int:
     """Reproduce the figures asked for and say where they went."""
     import gb_pin.cli.checks as checks
     from gb_pin.reproduce import reproduce
 
     checks.directory(args.out, "--out")
+    for name in _reports(args.figures):  # a finished reproduction is not replaced by accident
+        checks.no_clobber(os.path.join(args.out, name), "--out", args.overwrite)
     if args.figures == ["hardware"]:
         from gb_pin.reproduce.hardware import run_hardware
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_quiet, add_trial_seed, add_workers, comma_list
+from gb_pin.cli.options import add_overwrite, add_quiet, add_trial_seed, add_workers, comma_list
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -55,6 +55,7 @@ def _add_options(r: argparse.ArgumentParser) -> None:
     r.add_argument("--doc", default=None, help="update the table in this markdown file (docs/ROBOTS.md)")
     r.add_argument("--figure", default=None, help="write the learning curves to this PNG (matplotlib)")
     r.add_argument("--json", default=None, help="write the results and every trial's curve to this file")
+    add_overwrite(r, "--json or --figure")
     add_quiet(r, "no progress output")
     r.set_defaults(func=run)
 
@@ -111,7 +112,8 @@ def _benchmark(args: argparse.Namespace) -> int:
     import gb_pin.cli.checks as checks
     from gb_pin.experiments.robot_bench import run as run_benchmark
 
-    checks.outputs(args, json="--json", figure="--figure", doc="--doc")
+    checks.outputs(args, doc="--doc")  # a page whose table is updated in place
+    checks.fresh_outputs(args, json="--json", figure="--figure")
 
     # The command recorded with the table: how to regenerate it.
     command = "gb-pin robots --benchmark"

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from gb_pin.cli.goal_options import add_goal_options, check_widths, goal_values
 from gb_pin.cli.options import (
     add_learner_options,
+    add_overwrite,
     add_quiet,
     add_robot_options,
     add_trial_seed,
@@ -49,6 +50,7 @@ def _add_options(t: argparse.ArgumentParser) -> None:
         ),
     )
     t.add_argument("--json", default=None, help="write movements, error, home_distance, initial_error")
+    add_overwrite(t, "--json")
     t.add_argument(
         "--checkpoint",
         default=None,
@@ -66,7 +68,8 @@ def run(args: argparse.Namespace) -> int:
 
     check.positive_int("--trials", args.trials)
     check.movements("--movements", args.movements, minimum=1)
-    checks.outputs(args, json="--json", checkpoint="--checkpoint")
+    checks.outputs(args, checkpoint="--checkpoint")  # a journal: rerunning the command goes on with it
+    checks.fresh_outputs(args, json="--json")
     goal_args = goal_values(args, as_lists=True)
     given = goal_args.get("targets")  # a workspace region is not the model's goal set
     robot = robot_argument(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from gb_pin.cli.options import add_html, add_model_options, add_port, result_robot
+from gb_pin.cli.options import add_html, add_model_options, add_overwrite, add_port, result_robot
 
 if TYPE_CHECKING:
     from gb_pin.cli.options import Subparsers
@@ -30,6 +30,7 @@ def _add_replay_options(v: argparse.ArgumentParser) -> None:
     """``replay``'s file and options."""
     v.add_argument("file", help="a result file with recorded steps (gb-pin babble --record-every ...)")
     add_html(v)
+    add_overwrite(v, "--html")
     v.add_argument("--movements", default=None, help="replay movements FIRST:LAST only, e.g. 0:50")
     v.add_argument("--speed", type=float, default=2.0, help="movements per second (default 2)")
     add_port(v)
@@ -41,6 +42,7 @@ def _add_show_options(w: argparse.ArgumentParser) -> None:
     """``show``'s file and options."""
     w.add_argument("file", help="a result file (gb-pin babble --out ...)")
     add_html(w)
+    add_overwrite(w, "--html")
     w.add_argument("--postures", type=int, default=5, help="postures g(x*) drawn (default 5)")
     add_port(w)
     add_model_options(w, robot=True)
@@ -54,7 +56,7 @@ def replay(args: argparse.Namespace) -> int:
     from gb_pin.viewer import export_replay, live_replay, parse_range
 
     checks.finite("--speed", args.speed, strict=True)
-    checks.outputs(args, html="--html")
+    checks.fresh_outputs(args, html="--html")
     result = load_result(args.file, target=result_robot(args))  # None: the robot the file records
     movements = parse_range(args.movements) if args.movements else None
     if args.html:
@@ -73,7 +75,7 @@ def show(args: argparse.Namespace) -> int:
     from gb_pin.viewer import export_model, live_model
 
     check.positive_int("--postures", args.postures, minimum=0)
-    checks.outputs(args, html="--html")
+    checks.fresh_outputs(args, html="--html")
     result = load_result(args.file, target=result_robot(args))  # None: the robot the file records
     if args.html:
         export_model(result, args.html, few=args.postures)

@@ -403,7 +403,7 @@ def format_presets() -> str:
     """The presets as a text table: name, DOF, task axes, frame, source, number of targets, kind."""
     rows = [("name", "DOF", "axes", "frame", "source", "targets", "kind")]
     for p in robots():
-        axes = p.axes if not p.task else _task_label(p.task["task"], p.axes)
+        axes = p.axes if not p.task else task_label(p.task["task"], p.axes)
         rows.append((p.pattern, p.dof, axes, p.frame, p.origin, str(p.n_targets), p.kind))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     right = {1, 5}
@@ -414,7 +414,7 @@ def format_presets() -> str:
     return "\n".join(lines)
 
 
-def _task_label(task: Any, axes: str) -> str:
+def task_label(task: Any, axes: str) -> str:
     """A short label of a stacked task for listings: ``xyz+R`` (pose), ``xyz+d`` (pointing), ``xyz+xyz``."""
     if task == "pose":
         return f"{axes}+R"
