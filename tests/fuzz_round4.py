@@ -214,13 +214,12 @@ def _kernel_robot_path(tmp: Path) -> None:
 def _silent_values(tmp: Path) -> None:
     expect_error(lambda: gb_pin.FunctionTarget(lambda q: np.cumsum(q) + 1j, [0.1, 0.2]), "complex")
     expect_error(lambda: gb_pin.ik.solve("planar5", np.array([[0.3 + 1e-3j, 0.3]]), seed="home"), "complex")
-    from gb_pin.robot.models import load_urdf_model
-
+    load = gb_pin.KinematicTarget.from_urdf
     for joint, needle in (('name="nope" value="0.5"', "nope"), ('name="j1" value="nan"', "nan")):
         (tmp / "s.srdf").write_text(
             f'<robot name="a"><group_state name="g" group="a"><joint {joint}/></group_state></robot>'
         )
-        expect_error(lambda: load_urdf_model(SMALL_URDF, srdf=tmp / "s.srdf"), needle)
+        expect_error(lambda: load(SMALL_URDF, "tool", home="g", srdf=tmp / "s.srdf"), needle)
     text = SMALL_URDF.read_text().replace('lower="-2.0" upper="2.0"', 'lower="2.0" upper="-2.0"', 1)
     (tmp / "inv.urdf").write_text(text)
     expect_error(lambda: gb_pin.KinematicTarget.from_urdf(tmp / "inv.urdf", "tool"), "lower limit")
