@@ -64,27 +64,31 @@ def evaluate_model(evaluation, c, robot, lm, K, motion, deadline):  # type: igno
         for c in range(components.shape[0]):
             components[c] = 0.0
     count = targets.shape[0]
-    for r in range(start, count):
-        if r > start and r % 256 == 0 and deadline < math.inf and monotonic(clock) >= deadline:
-            progress[0] = r
+    block = start
+    while block < count:
+        if block > start and deadline < math.inf and monotonic(clock) >= deadline:
+            progress[0] = block
             progress[1] = error
             progress[2] = distance
             return False, math.nan, math.nan
-        xs = targets[r]
-        llm_predict(xs, lm, K, q)
-        d = 0.0
-        for i in range(m):
-            v = home[i] - q[i]
-            d += v * v
-            q[i] = min(max(q[i], lower[i]), upper[i])
-        distance += math.sqrt(d)
-        body_forward(q, body, x)
-        e = 0.0
-        for j in range(n):
-            v = xs[j] - x[j]
-            e += v * v
-        error += math.sqrt(e)
-        add_component_errors(body.task, xs, x, components)
+        end = min(count, (block // 256 + 1) * 256)  # blocks of 256 targets, the clock read between
+        for r in range(block, end):
+            xs = targets[r]
+            llm_predict(xs, lm, K, q)
+            d = 0.0
+            for i in range(m):
+                v = home[i] - q[i]
+                d += v * v
+                q[i] = min(max(q[i], lower[i]), upper[i])
+            distance += math.sqrt(d)
+            body_forward(q, body, x)
+            e = 0.0
+            for j in range(n):
+                v = xs[j] - x[j]
+                e += v * v
+            error += math.sqrt(e)
+            add_component_errors(body.task, xs, x, components)
+        block = end
     progress[0] = 0.0
     progress[1] = 0.0
     progress[2] = 0.0
