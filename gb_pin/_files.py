@@ -128,6 +128,13 @@ def fallback_paths(path: str | os.PathLike[str]) -> Iterator[str]:
                 break
 
 
+def cache_root() -> str:
+    """gb_pin's folder of the user's cache: ``$GB_PIN_CACHE``, else ``$XDG_CACHE_HOME/gb_pin`` (~/.cache)."""
+    return os.environ.get("GB_PIN_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "gb_pin"
+    )
+
+
 def free_name(path: str | os.PathLike[str]) -> str:
     """``path`` if nothing is there, else the first free ``name.1.npz``, ``name.2.npz``, ... beside it."""
     text = os.fspath(path)

@@ -31,6 +31,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/body/joints.py",
     "learn/body/planar.py",
     "learn/body/task.py",
+    "learn/clock.py",
     "learn/component_metrics.py",
     "learn/exploration.py",
     "learn/goals/draw.py",

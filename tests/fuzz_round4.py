@@ -5,7 +5,10 @@
 13 memory (joint paths, map storage, protocol samples); 14 onboarding budget; 15 kernel files named
 in results; 16 silently wrong values (complex numbers, SRDF states, inverted limits); 17 disk
 (explicit checkpoints on a full disk); 9 messages (outlier readings, --plant/--sensor keys, huge
-numbers, HTML titles).
+numbers, HTML titles). The leftovers closed after the round: 12 the babbling loop's slices (Ctrl-C in
+a babble whose E^X runs over many test targets), 16 SRDF states of example-robot-data robots, 17 a
+trial journal on a disk that fills (the rerun reads its fallback), 18 checkpoints that verify
+themselves (edited arrays and plant states refused by their digest).
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import signal
 import threading
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from fuzz_probes import CTX, SMALL_URDF, cli, expect_error, probe
@@ -127,6 +131,23 @@ def _ik_cli_interrupt(tmp: Path) -> None:
     assert done.rc == 130 and done.after_interrupt < 3.0, (done.rc, done.after_interrupt, done.err[-200:])
 
 
+@probe(
+    "result",
+    "12 interrupts",
+    "Ctrl-C in gb-pin babble with 3*10^4 test targets (E^X every movement)",
+    seconds=90,
+    slow=True,
+)  # fmt: skip  (tests/test_loop_slices.py runs the same in CI)
+def _babble_interrupt(tmp: Path) -> None:
+    np.savetxt(tmp / "t.csv", np.random.default_rng(0).uniform(-0.5, 0.5, (30_000, 2)), delimiter=",")
+    args = ["babble", "--robot", "planar5", "--movements", "1000000", "--eval-targets", "t.csv",
+            "--checkpoint", "c.ckpt", "--quiet"]  # fmt: skip
+    done = cli(args, tmp, interrupt=12.0, timeout=80)
+    # a chunk of 1000 evaluations took 5-10 s before the slices; now the loop returns every 0.1 s
+    assert done.rc == 130 and done.after_interrupt < 3.0, (done.rc, done.after_interrupt, done.err[-200:])
+    assert "checkpoint written to" in done.err, done.err[-300:]
+
+
 # -- 13 memory ---------------------------------------------------------------------------------------------
 @probe("api", "13 memory", "max_joint_step 1e-8 and 1e-300 in feedback reaching", limit_mb=200, seconds=60)
 def _tiny_steps(tmp: Path) -> None:
@@ -214,13 +235,12 @@ def _kernel_robot_path(tmp: Path) -> None:
 def _silent_values(tmp: Path) -> None:
     expect_error(lambda: gb_pin.FunctionTarget(lambda q: np.cumsum(q) + 1j, [0.1, 0.2]), "complex")
     expect_error(lambda: gb_pin.ik.solve("planar5", np.array([[0.3 + 1e-3j, 0.3]]), seed="home"), "complex")
-    from gb_pin.robot.models import load_urdf_model
-
+    load = gb_pin.KinematicTarget.from_urdf
     for joint, needle in (('name="nope" value="0.5"', "nope"), ('name="j1" value="nan"', "nan")):
         (tmp / "s.srdf").write_text(
             f'<robot name="a"><group_state name="g" group="a"><joint {joint}/></group_state></robot>'
         )
-        expect_error(lambda: load_urdf_model(SMALL_URDF, srdf=tmp / "s.srdf"), needle)
+        expect_error(lambda: load(SMALL_URDF, "tool", home="g", srdf=tmp / "s.srdf"), needle)
     text = SMALL_URDF.read_text().replace('lower="-2.0" upper="2.0"', 'lower="2.0" upper="-2.0"', 1)
     (tmp / "inv.urdf").write_text(text)
     expect_error(lambda: gb_pin.KinematicTarget.from_urdf(tmp / "inv.urdf", "tool"), "lower limit")
@@ -236,6 +256,42 @@ def _explicit_checkpoint_full(tmp: Path) -> None:
     CTX.full.patch()
     where = CTX.full.path / "explicit.ckpt"
     expect_error(lambda: session.save_checkpoint(where), "explicit.ckpt")
+
+
+@probe("journal", "17 disk", "reproduce on a disk that fills: the rerun reads the moved journal", seconds=90)
+def _journal_rerun(tmp: Path) -> None:
+    import test_disk_round4 as t
+
+    with contextlib.ExitStack() as stack:
+        mp = stack.enter_context(_monkeypatch())
+        t.test_reproduce_on_a_disk_that_fills_keeps_every_finished_trial_for_the_rerun(tmp, mp)
+
+
+# -- 18 checkpoints that verify themselves ---------------------------------------------------------------
+@probe("checkpoint", "18 digests", "edited arrays, headers and plant states of a checkpoint", seconds=60)
+def _digests(tmp: Path) -> None:
+    import test_checkpoint_digest as t
+
+    t.test_the_digest_covers_every_array_and_the_header(tmp)
+    if _mujoco():
+        t.test_a_plant_state_edited_within_its_bounds_is_refused(tmp)
+
+
+@probe("urdf", "16 silent values", "SRDF states of example-robot-data and user SRDFs naming missing joints",
+       seconds=60)  # fmt: skip
+def _srdf_states(tmp: Path) -> None:
+    import test_silent_values as t
+
+    t.test_a_used_srdf_state_naming_a_missing_joint_and_leaving_a_chain_joint_unset_is_refused(tmp)
+    t.test_example_robot_data_srdfs_naming_joints_of_fuller_robots_load(tmp)
+
+
+@contextlib.contextmanager
+def _monkeypatch() -> Any:
+    import pytest
+
+    with pytest.MonkeyPatch.context() as mp:
+        yield mp
 
 
 # -- 9 messages ---------------------------------------------------------------------------------------

@@ -213,7 +213,7 @@ def test_foreign_and_newer_checkpoints_are_refused(tmp_path: Path) -> None:
     gb_pin.babble("planar3", movements=5, seed=0, checkpoint=path)
     with np.load(path) as archive:
         arrays = {k: archive[k] for k in archive.files}
-    arrays["meta"] = np.array(str(arrays["meta"]).replace('"format_version": 1', '"format_version": 99'))
+    arrays["meta"] = np.array(str(arrays["meta"]).replace('"format_version": 2', '"format_version": 99'))
     with open(path, "wb") as fh:
         np.savez(fh, **arrays)
     with pytest.raises(gb_pin.ResultFileError, match="newer gb_pin"):

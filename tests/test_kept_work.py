@@ -23,6 +23,7 @@ import pytest
 import gb_pin
 from gb_pin import _files
 from gb_pin.exceptions import GbPinWarning, InvalidArgumentError
+from gb_pin.experiments.journal import fallback_journals
 
 
 def _full_under(monkeypatch: Any, directory: Path) -> None:
@@ -46,6 +47,7 @@ def test_a_journal_that_fills_the_disk_moves_with_every_finished_trial(
     disk.mkdir()
     here.mkdir()
     monkeypatch.chdir(here)
+    monkeypatch.setenv("GB_PIN_CACHE", str(tmp_path / "cache"))
     journal = disk / "j.jsonl"
     first = gb_pin.run_trials("planar5", trials=2, movements=10, seed=0, workers=1, checkpoint=journal)
     _full_under(monkeypatch, disk)
@@ -53,13 +55,15 @@ def test_a_journal_that_fills_the_disk_moves_with_every_finished_trial(
         GbPinWarning, match=r"trial journal .*No space left.*3 finished trials are in"
     ) as caught:
         more = gb_pin.run_trials("planar5", trials=4, movements=10, seed=0, workers=1, checkpoint=journal)
-    moved = here / "j.jsonl"
-    assert str(moved) in str(caught[0].message)
+    moved = Path(fallback_journals(journal)[0])  # a place of its own, which the rerun reads
+    assert str(moved) in str(caught[0].message) and "a rerun with the same journal" in str(caught[0].message)
     np.testing.assert_array_equal(more.error[:2], first.error)
-    monkeypatch.undo()
-    again = gb_pin.run_trials("planar5", trials=4, movements=10, seed=0, workers=1, checkpoint=moved)
-    np.testing.assert_array_equal(again.error, more.error)  # all four journaled in the fallback
     assert len(moved.read_text().splitlines()) == 1 + 4
+    monkeypatch.undo()
+    monkeypatch.setenv("GB_PIN_CACHE", str(tmp_path / "cache"))
+    again = gb_pin.run_trials("planar5", trials=4, movements=10, seed=0, workers=1, checkpoint=journal)
+    np.testing.assert_array_equal(again.error, more.error)  # all four read from the fallback ...
+    assert len(journal.read_text().splitlines()) == 1 + 4 and not moved.exists()  # ... and brought home
 
 
 def test_a_journals_torn_last_line_is_cut_and_a_whole_one_kept(tmp_path: Path) -> None:

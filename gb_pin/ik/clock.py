@@ -1,7 +1,7 @@
 """A monotonic clock and a counter-based random stream for compiled code (the solver's budget and restarts).
 
-numba has no clock in nopython mode; :func:`now` calls the C library's ``clock_gettime`` (declared by
-name, so that the compiled code stays cacheable: the symbol is resolved when the cache is loaded).
+numba has no clock in nopython mode; :func:`now` calls the C library's ``clock_gettime``
+(:func:`gb_pin.learn.clock.clock_gettime`, shared with the babbling loop's slices).
 :data:`CLOCKS`: ``"wall"`` is ``time.CLOCK_MONOTONIC`` (about 40 ns a call here), the budget of the
 field's protocol; ``"cpu"`` is ``time.CLOCK_THREAD_CPUTIME_ID``, the time the query itself ran on
 its core (about 0.7 us a call: a system call), which a busy machine's preemptions do not eat into
@@ -17,13 +17,10 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from llvmlite import ir
-from numba import types
-from numba.core import cgutils
-from numba.extending import intrinsic
 
 from gb_pin._jit import njit
 from gb_pin.ik.compiled import NO_REFCOUNT
+from gb_pin.learn.clock import clock_gettime as _clock_gettime
 
 __all__ = ["CLOCKS", "now", "stream_seed", "uniform"]
 
@@ -36,19 +33,6 @@ CLOCKS: dict[str, int] = {
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 _MIX1 = np.uint64(0xBF58476D1CE4E5B9)
 _MIX2 = np.uint64(0x94D049BB133111EB)
-
-
-@intrinsic
-def _clock_gettime(typingctx, clock, address):  # type: ignore[no-untyped-def]
-    sig = types.int32(types.int32, types.intp)
-
-    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
-        pointer = ir.IntType(8).as_pointer()
-        fnty = ir.FunctionType(ir.IntType(32), [ir.IntType(32), pointer])
-        fn = cgutils.get_or_insert_function(builder.module, fnty, "clock_gettime")
-        return builder.call(fn, [args[0], builder.inttoptr(args[1], pointer)])
-
-    return sig, codegen
 
 
 @njit(cache=True, nogil=True, **NO_REFCOUNT)

@@ -46,6 +46,7 @@ NEED_GOAL = 4  # a goal generator written in Python must write the next path end
 MOVEMENT_DONE = 5  # an ask/tell step completed the movement (gb_pin.learn.session_kernels)
 STEP_DONE = 6  # an ask/tell step ended, the movement goes on
 REACHED = 7  # E^X reached the run's stopping level (until_error): the run is over
+SLICE = 8  # the loop's time slice is up (Evaluation.seconds): Python looks for Ctrl-C and calls again
 
 MAX_POSTURE = 1e6  # a posture beyond this (rad or m) means the estimate has exploded
 
@@ -150,6 +151,10 @@ class Evaluation(NamedTuple):
     ``components`` (T, C): E^X per task component of a stacked task (C = 0 for the paper's).
     ``until``: the run stops (REACHED) at the first evaluation with E^X <= until (-inf: never).
     ``reach`` (T,): the median of the run's reach ring (:class:`Run`) at each count [m].
+    ``seconds``: the longest the loop runs before it returns ``SLICE`` (inf: it never does);
+    ``progress`` (5,): an evaluation under way (:func:`~gb_pin.learn.metrics.evaluate_model`: next
+    target, two sums), then when the call's slice ends and the movement count it began at;
+    ``clock``: int64 (2,) scratch of :func:`~gb_pin.learn.clock.monotonic`.
     """
 
     at: NDArray[np.int64]
@@ -159,6 +164,9 @@ class Evaluation(NamedTuple):
     components: NDArray[np.float64]
     until: float
     reach: NDArray[np.float64]
+    seconds: float
+    progress: NDArray[np.float64]
+    clock: NDArray[np.int64]
 
 
 class Recorder(NamedTuple):

@@ -175,6 +175,24 @@ class GoalBabbling:
         every = 0
         if checkpoint is not None:
             every = check.positive_int("checkpoint_every", checkpoint_every or max(1, total // 10))
+        state.interrupt = should_stop  # also polled inside a chunk, every SLICE_SECONDS (learn/clock.py)
+        try:
+            self._chunks(state, until, chunk, every, callback, observer, checkpoint, should_stop)
+        finally:
+            state.interrupt = None
+        return self
+
+    @staticmethod
+    def _chunks(
+        state: BabbleState,
+        until: int,
+        chunk: int,
+        every: int,
+        callback: Callable[[int], Any] | None,
+        observer: Callable[[BabbleState], Any] | None,
+        checkpoint: Callable[[BabbleState], Any] | None,
+        should_stop: Callable[[], bool] | None,
+    ) -> None:
         while state.movements < until and not state.reached:
             stop = min(until, state.movements + chunk)
             if every:  # never step over a checkpoint
@@ -192,7 +210,6 @@ class GoalBabbling:
                 callback(state.movements)
             if stopping:
                 break
-        return self
 
     @property
     def model_(self) -> LocalLinearMap:

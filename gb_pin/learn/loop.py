@@ -14,6 +14,7 @@ import numpy as np
 
 from gb_pin._jit import njit
 from gb_pin.learn.body.chain import body_forward
+from gb_pin.learn.clock import monotonic
 from gb_pin.learn.exploration import noise_add, noise_walk
 from gb_pin.learn.goals.kernel import goal_feedback, is_motor, motor_posture, next_goal, snap_start
 from gb_pin.learn.layout import (
@@ -36,6 +37,7 @@ from gb_pin.learn.layout import (
     REACHED,
     REACHES,
     RECORDED,
+    SLICE,
     STEP,
     STEPS,
 )
@@ -62,15 +64,21 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
         DONE; NEED_CAPACITY (grow the map and call again); NEED_RECORD_CAPACITY (grow the
         recording buffers and call again); NEED_GOAL (write the goal into
         ``run.motion.path_end`` and call again); REACHED (E^X fell to ``evaluation.until``:
-        the run is over); or NOT_FINITE.
+        the run is over); SLICE (``evaluation.seconds`` ran out, between movements or inside an
+        evaluation: call again to go on, bit-identical); or NOT_FINITE.
     """
     counters = run.counters
+    evaluation = monitor.evaluation
+    start_slice(evaluation, counters[MOVEMENTS])
     while True:
         if counters[KIND] == NONE:
-            if evaluate_schedule(learner, robot, run, monitor.evaluation):
-                return REACHED
+            status = evaluate_schedule(learner, robot, run, evaluation, evaluation.progress[DEADLINE])
+            if status != DONE:
+                return status  # REACHED, or SLICE inside an evaluation
             if counters[MOVEMENTS] >= stop:
                 return DONE
+            if slice_over(evaluation, counters[MOVEMENTS]):
+                return SLICE
             if not begin_movement(rng, learner.hyper.p_home, robot.limits, run, goals):
                 return NEED_GOAL
         status = _movement(rng, learner, robot, run, monitor.recorder)
@@ -78,11 +86,42 @@ def babble_loop(rng, stop, learner, robot, run, goals, monitor):  # type: ignore
             return status
 
 
+DEADLINE = 3  # evaluation.progress[DEADLINE]: when this call's slice ends [s, monotonic clock]
+FIRST = 4  # evaluation.progress[FIRST]: the movement count when this call began
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def start_slice(evaluation, movements):  # type: ignore[no-untyped-def]
+    """Note when this call of the loop must return (``evaluation.seconds`` from now) and where it began.
+
+    The slice's state is kept in ``evaluation.progress`` rather than in the loop's own variables,
+    which would stay live across the inlined step loop.
+    """
+    p = evaluation.progress
+    sliced = evaluation.seconds < math.inf
+    p[DEADLINE] = monotonic(evaluation.clock) + evaluation.seconds if sliced else math.inf
+    p[FIRST] = movements
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def slice_over(evaluation, movements):  # type: ignore[no-untyped-def]
+    """Whether the slice is up: after at least one movement of this call, every 8th, by the clock."""
+    p = evaluation.progress
+    return (
+        p[DEADLINE] < math.inf
+        and movements > p[FIRST]
+        and movements % 8 == 0
+        and monotonic(evaluation.clock) >= p[DEADLINE]
+    )
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyped-def]
+def evaluate_schedule(learner, robot, run, evaluation, deadline):  # type: ignore[no-untyped-def]
     """E^X and D^home at every schedule entry equal to the movement count r (Eqs. 9, 10).
 
-    Returns True when one of them found E^X <= ``evaluation.until`` (the stopping level).
+    Returns REACHED when one of them found E^X <= ``evaluation.until`` (the stopping level),
+    SLICE when the clock passed ``deadline`` inside an evaluation (the cursor stays on it, its
+    progress in ``evaluation.progress``: the next call goes on with it), else DONE.
     """
     counters = run.counters
     reached = False
@@ -91,17 +130,20 @@ def evaluate_schedule(learner, robot, run, evaluation):  # type: ignore[no-untyp
     at = evaluation.at
     while c < at.shape[0] and at[c] <= r:
         if at[c] == r:
-            e, d = evaluate_model(
-                evaluation.targets, robot.limits, robot.body, learner.lm, counters[PROTOTYPES],
-                run.motion.q, run.motion.x, evaluation.components[c],
+            finished, e, d = evaluate_model(
+                evaluation, c, robot, learner.lm, counters[PROTOTYPES], run.motion,
+                math.inf if reached else deadline,
             )  # fmt: skip
+            if not finished:
+                counters[EVAL_CURSOR] = c
+                return SLICE
             evaluation.errors[c] = e
             evaluation.distances[c] = d
             evaluation.reach[c] = reach_median(run.reach, counters[REACHES])
             reached = reached or e <= evaluation.until
         c += 1
     counters[EVAL_CURSOR] = c
-    return reached
+    return REACHED if reached else DONE
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -19,54 +19,82 @@ from gb_pin._jit import njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.body.task import add_component_errors
+from gb_pin.learn.clock import monotonic
 from gb_pin.learn.llm_kernels import llm_predict
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def evaluate_model(targets, limits, body, lm, K, q, x, components):  # type: ignore[no-untyped-def]
-    """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10).
+@njit(cache=True, nogil=True, error_model="numpy")  # not inlined: called rarely, kept out of the step loop
+def evaluate_model(evaluation, c, robot, lm, K, motion, deadline):  # type: ignore[no-untyped-def]
+    """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10), in slices.
 
     For a stacked task, ``components`` (C,) receives E^X split by component (mean over the
     targets of ||x*[r_c] - x[r_c]|| / s_c: [m] for positions, [deg] for rotations); it is
     empty for the paper's position task.
 
+    The sums run over the targets in order; every 256 targets, once the monotonic clock passes
+    ``deadline``, the evaluation stops and keeps where it was in ``progress`` (next target, the sums
+    of E^X and D^home so far); the next call goes on from there, so the result is the one of an
+    uninterrupted evaluation, bit for bit.
+
     Args:
-        targets: (N, n) evaluation targets [m].
-        limits: :class:`~gb_pin.learn.layout.Limits` (home, lower, upper).
-        body: :class:`~gb_pin.learn.body.chain.Body`, the compiled forward kinematics.
+        evaluation: :class:`~gb_pin.learn.layout.Evaluation`: the targets (N, n) [m], ``components``
+            (T, C) whose row ``c`` receives E^X per component (C = 0 for the paper's task),
+            ``progress`` (an evaluation under way, all 0 when none: next target, the two sums) and
+            ``clock`` (scratch of the clock).
+        c: the schedule entry evaluated.
+        robot: :class:`~gb_pin.learn.layout.Robot` (limits, the compiled forward kinematics).
         lm: :class:`~gb_pin.learn.llm_kernels.MapArrays` of the estimate.
         K: prototypes in use.
-        q: (m,) scratch.
-        x: (n,) scratch.
-        components: (C,) output, E^X per component (C = 0 for the paper's task).
+        motion: :class:`~gb_pin.learn.layout.Motion`, whose ``q`` (m,) and ``x`` (n,) are scratch.
+        deadline: when to stop [s on the monotonic clock] (inf: never).
+
+    Returns:
+        (finished, E^X, D^home); while not finished, E^X and D^home are NaN.
     """
+    targets, components = evaluation.targets, evaluation.components[c]
+    progress, clock = evaluation.progress, evaluation.clock
+    limits, body, q, x = robot.limits, robot.body, motion.q, motion.x
     home, lower, upper = limits.home, limits.lower, limits.upper
     m = home.shape[0]
     n = targets.shape[1]
-    error = 0.0
-    distance = 0.0
-    for c in range(components.shape[0]):
-        components[c] = 0.0
-    for r in range(targets.shape[0]):
-        xs = targets[r]
-        llm_predict(xs, lm, K, q)
-        d = 0.0
-        for i in range(m):
-            v = home[i] - q[i]
-            d += v * v
-            q[i] = min(max(q[i], lower[i]), upper[i])
-        distance += math.sqrt(d)
-        body_forward(q, body, x)
-        e = 0.0
-        for j in range(n):
-            v = xs[j] - x[j]
-            e += v * v
-        error += math.sqrt(e)
-        add_component_errors(body.task, xs, x, components)
+    start = int(progress[0])
+    error = progress[1]
+    distance = progress[2]
+    if start == 0:
+        for c in range(components.shape[0]):
+            components[c] = 0.0
     count = targets.shape[0]
+    block = start
+    while block < count:
+        if block > start and deadline < math.inf and monotonic(clock) >= deadline:
+            progress[0] = block
+            progress[1] = error
+            progress[2] = distance
+            return False, math.nan, math.nan
+        end = min(count, (block // 256 + 1) * 256)  # blocks of 256 targets, the clock read between
+        for r in range(block, end):
+            xs = targets[r]
+            llm_predict(xs, lm, K, q)
+            d = 0.0
+            for i in range(m):
+                v = home[i] - q[i]
+                d += v * v
+                q[i] = min(max(q[i], lower[i]), upper[i])
+            distance += math.sqrt(d)
+            body_forward(q, body, x)
+            e = 0.0
+            for j in range(n):
+                v = xs[j] - x[j]
+                e += v * v
+            error += math.sqrt(e)
+            add_component_errors(body.task, xs, x, components)
+        block = end
+    progress[0] = 0.0
+    progress[1] = 0.0
+    progress[2] = 0.0
     for c in range(components.shape[0]):
         components[c] /= count
-    return error / count, distance / count
+    return True, error / count, distance / count
 
 
 MAX_SCHEDULE = 10**7

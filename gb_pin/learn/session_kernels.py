@@ -31,6 +31,7 @@ from gb_pin.learn.layout import (
     NONE,
     NOT_FINITE,
     PROTOTYPES,
+    REACHED,
     RECORDED,
     STEP,
     STEP_DONE,
@@ -47,7 +48,7 @@ def evaluate_due(learner, robot, run, evaluation):  # type: ignore[no-untyped-de
 
     Returns True when E^X fell to the run's stopping level (``evaluation.until``).
     """
-    return evaluate_schedule(learner, robot, run, evaluation)
+    return evaluate_schedule(learner, robot, run, evaluation, math.inf) == REACHED
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import DivergenceError, InvalidArgumentError
+from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.body.chain import KinematicChain
 from gb_pin.learn.body.kinematics import Kinematics
+from gb_pin.learn.clock import SLICE_SECONDS
 from gb_pin.learn.config import BabbleConfig
+from gb_pin.learn.divergence import divergence_error
 from gb_pin.learn.exploration import noise_init
 from gb_pin.learn.goals import GoalGenerator, PythonGoals, make_goals
 from gb_pin.learn.goals.base import GoalArrays
@@ -71,6 +75,11 @@ class BabbleState:
         self.sensor: SensorArrays | None = None
         self.reach: NDArray[np.float64] = np.zeros(REACH_WINDOW)
         self.reaches: NDArray[np.float64]
+        # Ctrl-C: polled whenever the compiled loop returns at the end of a time slice (SLICE_SECONDS);
+        # True stops :meth:`run` there, between movements or inside an evaluation (redone on resuming).
+        self.interrupt: Callable[[], bool] | None = None
+        self._progress = np.zeros(5)  # an evaluation under way, the slice (Evaluation.progress), not saved
+        self._clock = np.zeros(2, dtype=np.int64)
 
     @classmethod
     def start(
@@ -260,8 +269,11 @@ class BabbleState:
         """The last goal-directed target x*_t [m]."""
         return self.vectors["target_prev"]
 
-    def kernel_args(self) -> tuple[Any, ...]:
-        """(learner, robot, run, goals, monitor): the compiled loop's arguments, built in this one place."""
+    def kernel_args(self, seconds: float = math.inf) -> tuple[Any, ...]:
+        """(learner, robot, run, goals, monitor): the compiled loop's arguments, built in this one place.
+
+        ``seconds``: the loop's time slice (:data:`~gb_pin.learn.clock.SLICE_SECONDS`; inf: none).
+        """
         cfg = self.config
         hyper = layout.Hyper(
             float(cfg.learning_rate), float(cfg.sigma), float(cfg.sigma_delta), float(cfg.radius),
@@ -288,6 +300,9 @@ class BabbleState:
             self.components,
             until,
             self.reaches,
+            float(seconds),
+            self._progress,
+            self._clock,
         )
         limits = layout.Limits(self.home, self.lower, self.upper, float(self.max_step))
         sensor = NO_SENSOR if self.sensor is None else self.sensor
@@ -309,8 +324,8 @@ class BabbleState:
             self._apply_changes()
             due = [at for at, _ in self.changes if at > self.movements]
             until = min([stop, *due])
-            self._run_until(until)
-            if until >= stop or self.reached:
+            stopped = self._run_until(until)
+            if stopped or until >= stop or self.reached:
                 self._apply_changes()
                 return
 
@@ -319,16 +334,21 @@ class BabbleState:
             if at <= self.movements:
                 self.chain = chain
 
-    def _run_until(self, stop: int) -> None:
-        args = self.kernel_args()
+    def _run_until(self, stop: int) -> bool:
+        """Run to ``stop``; True if :attr:`interrupt` stopped it before."""
+        args = self.kernel_args(SLICE_SECONDS)
         while True:
             status = babble_loop(self.rng, stop, *args)
             self.llm.set_count(int(self.istate[layout.PROTOTYPES]))
             if status == layout.DONE:
-                return
+                return False
+            if status == layout.SLICE:
+                if self.interrupt is not None and self.interrupt():
+                    return True
+                continue  # nothing was reallocated
             if status == layout.REACHED:
                 self._end_at_cursor()
-                return
+                return False
             if status == layout.NEED_CAPACITY:
                 self.llm.reserve(2 * self.llm.capacity)
             elif status == layout.NEED_RECORD_CAPACITY:
@@ -338,7 +358,7 @@ class BabbleState:
                 continue  # nothing was reallocated
             else:
                 self._diverged()
-            args = self.kernel_args()
+            args = self.kernel_args(SLICE_SECONDS)
 
     def _end_at_cursor(self) -> None:
         """The run stopped at E^X <= until_error: its schedule ends at the evaluation that found it."""
@@ -375,40 +395,7 @@ class BabbleState:
             self.far_reading = (self.movements, self.steps, x.copy())
 
     def _diverged(self) -> None:
-        cfg = self.config
-        x, q = self.vectors["x_prev"], self.vectors["q_prev"]
-        if self.far_reading is not None:
-            movement, step, reading = self.far_reading
-            raise DivergenceError(
-                f"the reading {np.array2string(reading, precision=4)} told at movement {movement} "
-                f"(step {step}) lies far outside the goal set (largest |coordinate| "
-                f"{float(np.max(np.abs(self.targets))):.3g} m) and the inverse estimate diverged from it: "
-                "a sensor outlier or a reading in the wrong unit, not the learner's settings; tell None "
-                "for a reading that cannot be trusted"
-            )
-        if not np.all(np.isfinite(x)):  # the learner learned from a non-finite observation
-            raise DivergenceError(
-                f"the forward model returned the non-finite position {np.array2string(x)} for the posture "
-                f"{np.array2string(q, precision=4)} (movement {self.movements}, step {self.steps}): the "
-                "robot's forward kinematics (its forward function or compiled kernel) is the cause, not "
-                "the learner; it must return finite positions for every posture within the joint limits"
-            )
-        reach = float(np.max(np.abs(self.targets)))
-        if float(np.max(np.abs(x))) > OUTLIER * max(reach, 0.1):
-            raise DivergenceError(
-                f"the reading {np.array2string(x, precision=4)} (movement {self.movements}, step "
-                f"{self.steps}) lies far outside the goal set (largest |coordinate| {reach:.3g} m) and "
-                "the inverse estimate diverged from it: a sensor outlier or a reading in the wrong unit, "
-                "not the learner's settings; pass None for a reading that cannot be trusted"
-            )
-        raise DivergenceError(
-            f"the inverse estimate diverged at movement {self.movements} (step {self.steps + 1}): "
-            f"a posture became non-finite or exceeded {layout.MAX_POSTURE:g}. Likely causes: "
-            f"learning_rate={cfg.learning_rate!r} too high (the paper uses 0.001-0.5), "
-            f"sigma={cfg.sigma!r} too large, radius={cfg.radius!r} far too small (the paper uses 0.1 m), "
-            f"or targets far outside the robot's reach "
-            f"(largest |coordinate| {reach:.3g} m)"
-        )
+        raise divergence_error(self, OUTLIER)
 
     # -- checkpoints ------------------------------------------------------------
     def to_arrays(self) -> dict[str, NDArray[Any]]:

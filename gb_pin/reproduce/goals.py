@@ -18,7 +18,6 @@ Written: ``goals_<robot>.png`` per robot, ``goals.json``, ``goals.csv`` and ``go
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
@@ -32,7 +31,7 @@ from numpy.typing import NDArray
 from gb_pin._files import save_or_fallback, write_text
 from gb_pin.exceptions import GbPinError, InvalidArgumentError
 from gb_pin.experiments.conditions import robot_label
-from gb_pin.experiments.journal import TrialJournal
+from gb_pin.experiments.journal import TrialJournal, remove_journal
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.learn.goals import make_goals
 from gb_pin.reproduce.cache import GITIGNORE
@@ -158,9 +157,10 @@ def run_condition(
 ) -> TrialSet:
     """A condition's trials, read from ``OUT/trials/`` if cached there, else run and cached.
 
-    While they run, finished trials are journaled beside the cache file (``.journal.jsonl``): a
-    rerun after Ctrl-C or a failed write computes only the others; the journal is removed once the
-    condition's file is written.
+    While they run, finished trials are journaled beside the cache file (``.journal.jsonl``; on a
+    disk that fills, in the journal's fallbacks, which a rerun reads too): a rerun after Ctrl-C or a
+    failed write computes only the others; the journal is removed once the condition's file is
+    written.
     """
     path = _cache_file(out, label, cond, trials, seed)
     if os.path.exists(path):
@@ -181,8 +181,7 @@ def run_condition(
     ts = sweep.results[0]
     save_or_fallback(path, ts.save, "the trials")  # computed at length: never lost to a failed write
     if os.path.exists(path) and journal is not None:
-        with contextlib.suppress(OSError):
-            os.remove(journal)
+        remove_journal(journal)  # and its fallbacks, where a full disk moved it
     return ts
 
 

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 from numpy.typing import ArrayLike
 
+from gb_pin.robot.description_checks import SrdfStates, check_used_states
+
 if TYPE_CHECKING:
     from typing import Self
 
@@ -26,6 +28,7 @@ class ModelLoaders:
 
     _urdf: str | None
     _package_dirs: list[str] | None
+    joints: Sequence[str]
 
     if TYPE_CHECKING:  # KinematicTarget's constructor
 
@@ -76,9 +79,10 @@ class ModelLoaders:
         Raises:
             InvalidArgumentError: missing or malformed URDF/SRDF, or any constructor error.
         """
-        from gb_pin.robot.models import load_urdf_model
+        from gb_pin.robot.models import load_urdf_states
 
-        model = load_urdf_model(path, srdf=srdf, floating_base=floating_base)
+        model, states = load_urdf_states(path, srdf=srdf, floating_base=floating_base)
+        _check_states(model, states, frame, joints, home)  # before onboarding, for the joints given
         target = cls(
             model,
             frame,
@@ -94,6 +98,7 @@ class ModelLoaders:
         )
         target._urdf = os.fspath(path)
         target._package_dirs = None if package_dirs is None else [os.fspath(p) for p in package_dirs]
+        _check_states(model, states, frame, target.joints, home)  # the chain chosen
         return target
 
     @classmethod
@@ -136,9 +141,10 @@ class ModelLoaders:
             UnknownRobotError: unknown robot, frame or joint (closest names listed).
             InvalidArgumentError: any other constructor error.
         """
-        from gb_pin.robot.models import load_example_robot
+        from gb_pin.robot.models import load_example_robot_states
 
-        model, _, urdf = load_example_robot(name)
+        model, _, urdf, states = load_example_robot_states(name)
+        _check_states(model, states, frame, joints, home)  # before onboarding, for the joints given
         target = cls(
             model,
             frame,
@@ -153,4 +159,26 @@ class ModelLoaders:
             onboard=onboard,
         )
         target._urdf = str(urdf)
+        _check_states(model, states, frame, target.joints, home)  # the chain chosen
         return target
+
+
+def _check_states(
+    model: Any, states: SrdfStates | None, frame: str, joints: Sequence[str] | None, home: Any
+) -> None:
+    """Refuse an SRDF state the target uses that names a missing joint and leaves a chain joint unset.
+
+    The states used: the home given by name, and the reference posture (``half_sitting``, or the
+    only state), which gives the home where none is given and locks the joints not moved. Joints
+    the URDF lacks in states the target does not use, or that leave no joint of the chain unset,
+    are ignored (a debug note).
+    """
+    if states is None or not states.missing or joints is None:
+        return
+    from gb_pin.robot.postures import reference_name
+
+    used = [home] if isinstance(home, str) else []
+    reference = reference_name(model)
+    if reference is not None:
+        used.append(reference)
+    check_used_states(states, used, list(joints), frame)

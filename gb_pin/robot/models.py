@@ -28,7 +28,7 @@ import pinocchio as pin
 from gb_pin._names import closest
 from gb_pin._reading import open_regular, read_bytes
 from gb_pin.exceptions import GbPinError, InvalidArgumentError, UnknownRobotError
-from gb_pin.robot.description_checks import check_limits, check_reference_states
+from gb_pin.robot.description_checks import SrdfStates, check_limits, check_reference_states
 
 _SHARE = ("share", "example-robot-data", "robots")
 
@@ -292,9 +292,24 @@ def load_urdf_model(
     *,
     srdf: str | os.PathLike[str] | None = None,
     floating_base: bool = False,
-    known_states: bool = True,
 ) -> pin.Model:
     """Build the kinematic model of a URDF file (no geometry), with the SRDF's reference configurations.
+
+    See :func:`load_urdf_states`, which also says what the SRDF's states set.
+    """
+    return load_urdf_states(path, srdf=srdf, floating_base=floating_base)[0]
+
+
+def load_urdf_states(
+    path: str | os.PathLike[str],
+    *,
+    srdf: str | os.PathLike[str] | None = None,
+    floating_base: bool = False,
+) -> tuple[pin.Model, SrdfStates | None]:
+    """A URDF file's kinematic model (no geometry) with the SRDF's states, and what the states set.
+
+    The second is None without an SRDF (see
+    :func:`~gb_pin.robot.description_checks.check_used_states`).
 
     The files are read once, in bounds (regular files only, :func:`check_urdf_size`), and
     pinocchio parses the text read (the same model as from the path, tested).
@@ -304,13 +319,12 @@ def load_urdf_model(
         srdf: an SRDF file whose ``group_state`` entries become the model's
             reference configurations (e.g. ``half_sitting``).
         floating_base: add a free-flyer root joint (for mobile robots).
-        known_states: refuse SRDF states naming joints the URDF lacks (False for example-robot-data's
-            own files, whose SRDFs name joints of fuller models, e.g. Romeo's toes).
 
     Raises:
         InvalidArgumentError: missing, malformed, not a regular file or too large
             (:func:`check_urdf_size`) URDF or SRDF; a joint whose lower limit exceeds its upper;
-            an SRDF state naming a joint the URDF lacks or holding a non-number.
+            an SRDF state holding a non-number. (A state naming a joint the URDF lacks is refused
+            only where a target uses it and needs a joint it leaves unset: ``check_used_states``.)
     """
     urdf = Path(os.fspath(path))
     if not urdf.exists():
@@ -326,6 +340,7 @@ def load_urdf_model(
     if model.njoints <= 1:
         raise InvalidArgumentError(f"URDF file {str(urdf)!r} describes no joint: nothing to move")
     check_limits(model, f"URDF file {str(urdf)!r}")
+    states = None
     if srdf is not None:
         srdf_path = Path(os.fspath(srdf))
         if not srdf_path.exists():
@@ -336,8 +351,8 @@ def load_urdf_model(
             pin.loadReferenceConfigurationsFromXML(model, xml, False)
         except (ValueError, RuntimeError, IndexError) as exc:
             raise InvalidArgumentError(f"malformed SRDF file {str(srdf_path)!r}: {str(exc)[:300]}") from exc
-        check_reference_states(model, xml, label, text if known_states else None)
-    return model
+        states = check_reference_states(model, xml, label, text)
+    return model, states
 
 
 @contextlib.contextmanager
@@ -381,13 +396,16 @@ def _xml_text(data: bytes) -> str:
 
 def load_example_robot(name: str) -> tuple[pin.Model, RobotDescription, Path]:
     """The kinematic model of an example-robot-data robot, its registry entry and its URDF path."""
+    return load_example_robot_states(name)[:3]
+
+
+def load_example_robot_states(name: str) -> tuple[pin.Model, RobotDescription, Path, SrdfStates | None]:
+    """:func:`load_example_robot`, and what its SRDF's states set (:func:`load_urdf_states`)."""
     entry = describe(name)
     root = example_robot_data_dir()
     srdf = None if entry.srdf is None else root / entry.srdf
-    model = load_urdf_model(
-        root / entry.urdf, srdf=srdf, floating_base=entry.floating_base, known_states=False
-    )
-    return model, entry, root / entry.urdf
+    model, states = load_urdf_states(root / entry.urdf, srdf=srdf, floating_base=entry.floating_base)
+    return model, entry, root / entry.urdf, states
 
 
 def package_dirs_for(urdf: str | os.PathLike[str]) -> list[str]:

@@ -27,13 +27,19 @@ def reference_configurations(model: pin.Model) -> dict[str, NDArray[np.float64]]
     return {e.key(): np.array(e.data(), dtype=float) for e in model.referenceConfigurations}
 
 
-def reference_posture(model: pin.Model) -> NDArray[np.float64]:
-    """The configuration locked joints keep: ``half_sitting``, the only named one, or the neutral one."""
+def reference_name(model: pin.Model) -> str | None:
+    """The named configuration locked joints keep: ``half_sitting``, else the only one, else None."""
     refs = reference_configurations(model)
     if "half_sitting" in refs:
-        return np.array(refs["half_sitting"], dtype=float)
-    if len(refs) == 1:
-        return np.array(next(iter(refs.values())), dtype=float)
+        return "half_sitting"
+    return next(iter(refs)) if len(refs) == 1 else None
+
+
+def reference_posture(model: pin.Model) -> NDArray[np.float64]:
+    """The configuration locked joints keep: ``half_sitting``, the only named one, or the neutral one."""
+    name = reference_name(model)
+    if name is not None:
+        return reference_configurations(model)[name]
     import pinocchio as pin
 
     return np.array(pin.neutral(model), dtype=float)

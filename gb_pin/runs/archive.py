@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import struct
 import zipfile
@@ -15,16 +16,60 @@ from gb_pin._reading import open_regular, read_npy
 from gb_pin.exceptions import ResultFileError
 
 
-def atomic_savez(path: str, arrays: dict[str, Any], meta: dict[str, Any], compress: bool = False) -> None:
+def atomic_savez(
+    path: str, arrays: dict[str, Any], meta: dict[str, Any], compress: bool = False, digest: bool = False
+) -> None:
     """Write ``arrays`` and a JSON header ``meta`` to ``path`` atomically (``gb_pin._files.atomic_write``).
 
     A crash at any moment leaves either the previous file or the new one, never half a file.
+    ``digest``: the header also holds the :func:`content_digest` of the arrays and the header,
+    which :func:`check_digest` verifies on reading.
     """
     from gb_pin import __version__
 
     header = {**meta, "gb_pin_version": __version__}
+    header.pop(DIGEST, None)
+    if digest:
+        header[DIGEST] = content_digest(arrays, header)
     with atomic_write(path) as fh:
         (np.savez_compressed if compress else np.savez)(fh, meta=np.array(json.dumps(header)), **arrays)
+
+
+DIGEST = "digest"
+"""The header entry holding :func:`content_digest` (files whose format requires one)."""
+
+
+def content_digest(arrays: dict[str, Any], header: dict[str, Any]) -> str:
+    """``"sha256:HEX"`` of a file's header (less its digest) and of every array: name, dtype, shape, bytes.
+
+    The header is hashed as canonical JSON (sorted keys), which its round trip through the file
+    keeps; the arrays in name order, so the digest is the same for the arrays written and read.
+    """
+    h = hashlib.sha256()
+    h.update(json.dumps({k: v for k, v in header.items() if k != DIGEST}, sort_keys=True).encode())
+    for name in sorted(arrays):
+        a = np.asarray(arrays[name])
+        h.update(b"\0" + name.encode("utf-8", "surrogateescape") + b"\0" + a.dtype.str.encode())
+        h.update(repr(a.shape).encode() + b"\0")
+        h.update(a.tobytes())
+    return "sha256:" + h.hexdigest()
+
+
+def check_digest(path: str, kind: str, arrays: dict[str, Any], header: dict[str, Any]) -> None:
+    """Refuse a file whose arrays or header differ from what the digest written with them says.
+
+    Raises:
+        ResultFileError: no digest, or one that does not match (naming the file).
+    """
+    recorded = header.get(DIGEST)
+    if not isinstance(recorded, str):
+        raise ResultFileError(f"{path}: a gb_pin {kind} of format version {header.get('format_version')} "
+                              "without its digest (edited, or not written by gb_pin)")  # fmt: skip
+    if recorded != content_digest(arrays, header):
+        raise ResultFileError(
+            f"{path}: its contents do not match the digest gb_pin wrote with them: the {kind} was "
+            "edited or corrupted after it was written, and is not read"
+        )
 
 
 # Limits on what a file may declare, checked before anything is read or allocated: a file is

@@ -155,10 +155,9 @@ def matrix_key(target: Any, geometry: RobotGeometry, clearance: float, samples: 
 
 def cache_dir() -> Path:
     """Where matrices are cached: ``$GB_PIN_CACHE`` (else the user cache dir, gb_pin/)."""
-    root = os.environ.get("GB_PIN_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "gb_pin"
-    )
-    return Path(root) / "collision"
+    from gb_pin._files import cache_root
+
+    return Path(cache_root()) / "collision"
 
 
 def cached_matrix(target: Any, geometry: RobotGeometry, clearance: float, samples: int = DEFAULT_SAMPLES,
