@@ -71,7 +71,7 @@ def _fine_contacts(checker: CollisionChecker, postures: list[np.ndarray]) -> int
     model, data = checker._model, checker._model.createData()
     hits = 0
     for a, b in itertools.pairwise(postures):
-        n = max(1, int(np.ceil(checker._factor * np.dot(checker._lever, np.abs(b - a)) / 0.002)))
+        n = max(1, int(np.ceil(2.0 * np.dot(checker._lever, np.abs(b - a)) / 0.002)))
         for s in np.linspace(0.0, 1.0, n + 1):
             q = checker.target.to_pinocchio(a + s * (b - a))
             hits += bool(pin.computeCollisions(model, data, checker.collision_model, gd, q, True))

@@ -8,7 +8,8 @@ clearance (coal's security margin); coal sees only the pairs whose bounding sphe
 (:mod:`gb_pin.safety.broadphase`, compiled, all of a segment's samples at once). A straight
 joint-space segment is checked at postures so close that no point of the arm moves more than the
 clearance between two of them (a bound from the joints' lever arms), so a segment whose samples are
-safe never touches. Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
+safe never touches (each pair's bound counts only the joints that move its two shapes apart).
+Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
 (:class:`gb_pin.learn.asktell.AskTell`): None when the segment is safe, else the last safe posture,
 where the movement is cut short.
 """
@@ -123,7 +124,7 @@ class CollisionChecker:
         self._data = self._model.createData()
         self._broadphase()
         self._lever = self._levers()
-        self._factor = 2.0 if self_collision else 1.0  # two moving shapes: twice the relative motion
+        self._pair_lever = self._pair_levers()
         self.slide = bool(slide)  # after a cut, slide joint by joint along the obstacle (slide_posture)
         self.checks = 0  # postures checked
         self.asks = 0  # segments checked
@@ -258,6 +259,43 @@ class CollisionChecker:
                 a = int(g.parents[a])
         return lever
 
+    def _pair_levers(self) -> NDArray[np.float64]:
+        """(P, m): per checked pair, how far its shapes move relative to each other per unit of each joint.
+
+        A shape's points move at most ``lever[s, j]`` (its distance from joint j's origin, bounded
+        along the chain) per unit of joint j above it. Against an obstacle: its own joints. Two of
+        the arm's shapes: only the joints between them (those above both move them together),
+        each shape's own lever.
+        """
+        g = self.geometry
+        model = self._model
+        ids = [int(model.getJointId(j)) for j in self.target.joints]
+        link = np.array([float(np.linalg.norm(model.jointPlacements[jid].translation)) for jid in ids])
+        span = np.where(
+            np.isfinite(self.target.upper - self.target.lower), self.target.upper - self.target.lower, 0.0
+        )
+        prismatic = np.array(["P" in model.joints[jid].shortname() for jid in ids])
+        k, m = len(g.body), len(ids)
+        lever = np.zeros((k, m))
+        above = np.zeros((k, m), dtype=bool)
+        for s in range(k):
+            dist = float(g.reach[s])
+            a = int(g.body[s])
+            while a >= 0:
+                lever[s, a] = 1.0 if prismatic[a] else dist
+                above[s, a] = True
+                dist += link[a] + (abs(span[a]) if prismatic[a] else 0.0)
+                a = int(g.parents[a])
+        out = np.zeros((self._pair_a.shape[0], m))
+        for p, (a, b) in enumerate(zip(self._pair_a, self._pair_b, strict=True)):
+            if b >= k:  # an obstacle
+                out[p] = lever[a]
+            else:
+                out[p] = np.where(above[a] & ~above[b], lever[a], 0.0) + np.where(
+                    above[b] & ~above[a], lever[b], 0.0
+                )
+        return out
+
     def same_setup(self, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> bool:
         """Whether this checker checks exactly these (so that a plant's checker can serve a run)."""
         return (
@@ -287,8 +325,13 @@ class CollisionChecker:
         return out
 
     def samples(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> int:
-        """Postures checked on the segment: no point moves more than the clearance between two."""
-        travel = self._factor * float(np.dot(self._lever, np.abs(q_to - q_from)))
+        """Postures checked on the segment: no pair's shapes move more than the clearance between two.
+
+        (Relative to each other: :meth:`_pair_levers`.)
+        """
+        if self._pair_lever.shape[0] == 0:
+            return 1
+        travel = float(np.max(self._pair_lever @ np.abs(q_to - q_from)))
         return min(MAX_SEGMENT_SAMPLES, max(1, math.ceil(travel / self.clearance)))
 
     def cut(self, q_from: ArrayLike, q_to: ArrayLike) -> tuple[NDArray[np.float64], bool]:
