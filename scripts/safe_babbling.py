@@ -56,23 +56,42 @@ _CACHE: list[str] = []  # the --cache folder, where the safe goals are kept too
 
 def safe_goals(scene) -> np.ndarray:  # type: ignore[no-untyped-def]
     """Which of the scene's goals some safe posture reaches (within 1 mm, keeping the 1 cm clearance)."""
-    if scene.robot in _SAFE:
-        return _SAFE[scene.robot]
+    key = f"{scene.robot}_{len(scene.goals)}"
+    if key in _SAFE:
+        return _SAFE[key]
     stored = os.path.join(_CACHE[0], f"{scene.robot}_safe_goals.json") if _CACHE else None
     if stored and os.path.exists(stored):
         with open(stored) as f:
-            _SAFE[scene.robot] = np.array(json.load(f), dtype=bool)
-        return _SAFE[scene.robot]
+            mask = np.array(json.load(f), dtype=bool)
+        if len(mask) == len(scene.goals):
+            _SAFE[key] = mask
+            return mask
     target = gb_pin.load_robot(scene.robot)
     checker = CollisionChecker(target, scene.obstacles, self_collision=True)
     found = solve(target, scene.goals, seed="middle", solutions=16, max_restarts=400, tol=1e-3, rng=0)
     postures = found.postures.reshape(len(scene.goals), -1, target.n_joints)
     mask = np.array([any(np.isfinite(q).all() and checker.is_safe(q) for q in P) for P in postures])
-    _SAFE[scene.robot] = mask
-    if stored:
+    _SAFE[key] = mask
+    if stored and len(mask) == len(scene.goals) and not os.path.exists(stored):
         with open(stored, "w") as f:
             json.dump(mask.tolist(), f)
     return mask
+
+
+def per_goal(result, forward, scene) -> dict:  # type: ignore[no-untyped-def]
+    """Each goal's error [mm] of the learned inverse and whether its posture keeps the clearance."""
+    target = gb_pin.load_robot(scene.robot)
+    checker = CollisionChecker(target, scene.obstacles, self_collision=True)
+    Q = np.clip(result.model.predict(scene.goals), target.lower, target.upper)
+    errors = 1000 * np.linalg.norm(np.asarray(forward(Q)) - scene.goals, axis=1)
+    return {"goal_error_mm": errors.tolist(), "goal_posture_safe": [checker.is_safe(q) for q in Q]}
+
+
+def shared_error(on: dict, off: dict) -> tuple[float, float, int]:
+    """(checked, unobstructed) mean error [mm] over the goals the unobstructed run reaches safely, count."""
+    keep = np.array(off["goal_posture_safe"])
+    e_on, e_off = np.array(on["goal_error_mm"]), np.array(off["goal_error_mm"])
+    return float(e_on[keep].mean()), float(e_off[keep].mean()), int(keep.sum())
 
 
 def safe_error(result, forward, scene) -> float:  # type: ignore[no-untyped-def]
@@ -97,6 +116,7 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
             "robot": scene.robot, "seed": seed, "movements": movements, "checked": False,
             "error_mm": 1000 * float(result.history.error[-1]),
             "safe_error_mm": safe_error(result, target.forward, scene),
+            **per_goal(result, target.forward, scene),
             "reach_mm": 1000 * float(result.history.reach[-1]), "asks": int(result.steps), "cut": 0,
             "unsafe_sent": None, "contacts": None, "wall_s": wall, "checks": None,
         }  # fmt: skip
@@ -127,6 +147,7 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
         "robot": scene.robot, "seed": seed, "movements": movements, "checked": checked,
         "error_mm": 1000 * float(result.history.error[-1]),
         "safe_error_mm": safe_error(result, robot.forward if kinematic else plant.true_forward, scene),
+        **per_goal(result, robot.forward if kinematic else plant.true_forward, scene),
         "reach_mm": 1000 * float(result.history.reach[-1]),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
         "contacts": int(plant.contacts) if checked and not kinematic else None, "wall_s": wall,
@@ -143,6 +164,8 @@ def main() -> None:
     parser.add_argument("--json", default=None)
     parser.add_argument("--kinematic", action="store_true", help="on the kinematic robot (no physics)")
     parser.add_argument("--cache", default=None, help="a folder: one JSON file per run, runs there skipped")
+    parser.add_argument("--reachable-goals", action="store_true",
+                        help="babble (both runs) toward the goals a safe posture reaches only")  # fmt: skip
     args = parser.parse_args()
     if args.cache:
         os.makedirs(args.cache, exist_ok=True)
@@ -151,10 +174,16 @@ def main() -> None:
     rows = []
     for robot in args.robots:
         scene = scenes[robot]()
+        if args.reachable_goals:
+            scene = scene._replace(goals=scene.goals[safe_goals(scene)])
+            _SAFE[f"{robot}_{len(scene.goals)}"] = np.ones(len(scene.goals), dtype=bool)
         for seed in args.seeds:
             for checked in (True, False):
                 kind = "kinematic" if args.kinematic else "mujoco"
-                name = f"{robot}_{kind}_{args.movements}_{seed}_{'checked' if checked else 'free'}.json"
+                goals = "_reachable" if args.reachable_goals else ""
+                name = (
+                    f"{robot}{goals}_{kind}_{args.movements}_{seed}_{'checked' if checked else 'free'}.json"
+                )
                 cached = os.path.join(args.cache, name) if args.cache else None
                 if cached and os.path.exists(cached):
                     with open(cached) as f:
@@ -178,6 +207,12 @@ def main() -> None:
             np.median([r["safe_error_mm"] for r in on]),
             np.median([r["safe_error_mm"] for r in off]),
         )
+        shared = [shared_error(a, b) for a, b in zip(on, off, strict=True) if "goal_error_mm" in a]
+        if shared:
+            ratios = [a / b for a, b, _ in shared]
+            counts = [n for *_, n in shared]
+            print(f"{robot}: on the goals the unobstructed run reaches safely ({counts} per seed): checked / "
+                  f"unobstructed {np.round(ratios, 2).tolist()}, median {np.median(ratios):.2f}")  # fmt: skip
         total = {
             key: sum(r[key] or 0 for r in on) for key in ("contacts", "unsafe_sent", "cut", "asks", "wall_s")
         }
