@@ -72,7 +72,7 @@ def _fine_contacts(checker: CollisionChecker, postures: list[np.ndarray]) -> int
     model, data = checker._model, checker._model.createData()
     hits = 0
     for a, b in itertools.pairwise(postures):
-        n = max(1, int(np.ceil(checker._factor * np.dot(checker._lever, np.abs(b - a)) / 0.002)))
+        n = max(1, int(np.ceil(2.0 * np.dot(checker._lever, np.abs(b - a)) / 0.002)))
         for s in np.linspace(0.0, 1.0, n + 1):
             q = checker.target.to_pinocchio(a + s * (b - a))
             hits += bool(pin.computeCollisions(model, data, checker.collision_model, gd, q, True))
@@ -307,3 +307,102 @@ def test_prefiltered_checks_give_coals_exact_verdicts_and_cuts(scene: str) -> No
         assert checker.checks - before == want[2]
         cuts += not want[1]
     assert cuts > 0
+
+
+class _StopError(Exception):
+    pass
+
+
+def test_checkpoints_and_results_record_the_obstacles_and_resume_checked(tmp_path: Path) -> None:
+    """A safe run's checkpoint and result file record its obstacles and settings; resumes check them.
+
+    Stopped at movement 3 of 6 and resumed from the file alone (no guard given), a session and a
+    babble() run end bit-identical to the uninterrupted run, with the same asks checked and cut.
+    """
+    from gb_pin.exceptions import ResultFileError
+    from gb_pin.runs.checkpoint import read_checkpoint
+
+    options = dict(obstacles=[Table(0.0), POST], self_collision=True, targets=so101_goals())
+    full = gb_pin.babble("so101", movements=6, seed=5, **options)  # type: ignore[arg-type]
+    assert full.cut_asks > 0 and full.safety is not None
+    assert full.safety["obstacles"] == [{"kind": "table", "height": 0.0}, plain_box(POST)]
+    path = tmp_path / "s.npz"
+    session = gb_pin.babble_session("so101", movements=6, seed=5, checkpoint=path, checkpoint_every=3,
+                                    **options)  # type: ignore[arg-type]  # fmt: skip
+    target = session.target
+    while session.movements < 3:
+        session.tell(target.forward(session.ask()))
+    session.close()
+    info = read_checkpoint(path)[1]
+    assert info.safety is not None and info.safety["self_collision"] is True
+    assert info.safety["clearance"] == 0.01 and info.safety["cut_asks"] == session.cuts
+    resumed = gb_pin.resume_session(path)
+    guard = resumed.guard
+    assert isinstance(guard, CollisionChecker) and guard.obstacles == (Table(0.0), POST)
+    while not resumed.done:
+        resumed.tell(target.forward(resumed.ask()))
+    result = resumed.result()
+    assert np.array_equal(result.history.error, full.history.error)
+    assert (result.checked_asks, result.cut_asks) == (full.checked_asks, full.cut_asks)
+    assert result.safety == full.safety
+    resumed.close()
+
+    def stop(movements: int) -> None:
+        if movements == 3:
+            raise _StopError
+
+    path2 = tmp_path / "b.npz"
+    with pytest.raises(_StopError):
+        gb_pin.babble("so101", movements=6, seed=5, checkpoint=path2, checkpoint_every=3, callback=stop,
+                      **options)  # type: ignore[arg-type]  # fmt: skip
+    again = gb_pin.resume(path2)
+    assert np.array_equal(again.history.error, full.history.error)
+    assert (again.checked_asks, again.cut_asks, again.safety) == (full.checked_asks, full.cut_asks,
+                                                                  full.safety)  # fmt: skip
+    full.save(tmp_path / "r.npz")
+    loaded = gb_pin.load_result(tmp_path / "r.npz")
+    assert (loaded.safety, loaded.cut_asks, loaded.checked_asks) == (full.safety, full.cut_asks,
+                                                                     full.checked_asks)  # fmt: skip
+    assert gb_pin.babble("so101", movements=2).safety is None
+    from gb_pin.runs.archive import atomic_savez, read_archive
+
+    arrays, meta = read_archive(str(path), "checkpoint", "gb_pin.checkpoint", 1)
+    for bad in ({"obstacles": [{"kind": "cube"}]}, {"clearance": -1.0}, {"self_collision": "yes"}, []):
+        meta2 = dict(meta)
+        meta2["safety"] = {**meta["safety"], **bad} if isinstance(bad, dict) else bad
+        atomic_savez(str(tmp_path / "bad.npz"), arrays, meta2)
+        with pytest.raises(ResultFileError) as error:
+            gb_pin.resume_session(tmp_path / "bad.npz")
+        assert "\n" not in str(error.value)
+
+
+def plain_box(box: Box) -> dict:
+    from gb_pin.safety.obstacles import plain
+
+    return plain(box)
+
+
+@pytest.mark.parametrize("scene", ["so101", "panda"])
+def test_segments_called_safe_never_touch_by_a_dense_check(scene: str) -> None:
+    """60 random segments near the obstacles: none the checker passes touches at 2 mm sampling.
+
+    The reference is coal on every checked pair with no margin and no prefilter, every 2 mm of the
+    fastest point's travel; segments it finds touching must all be cut (and some are).
+    """
+    from gb_pin.safety.scenarios import panda_scene, so101_scene
+
+    setup = so101_scene() if scene == "so101" else panda_scene()
+    target = load_robot(setup.robot)
+    checker = CollisionChecker(target, setup.obstacles, self_collision=True)
+    home = np.asarray(target.home, dtype=float)
+    Q = home + 0.4 * (sample_postures(target.lower, target.upper, 300, seed=11) - home)
+    passed = touching = 0
+    for q0, q1 in itertools.pairwise(Q):
+        if passed >= 60 or not checker.is_safe(q0):
+            continue
+        ok = checker.cut(q0, q1)[1]
+        dense = _fine_contacts(checker, [q0, q1])
+        touching += dense > 0
+        assert not (ok and dense), (q0.tolist(), q1.tolist())
+        passed += 1
+    assert passed == 60 and touching > 5

@@ -265,6 +265,9 @@ def resume(
 ) -> BabbleResult:
     """Continue a run from its checkpoint file; it ends bit-identical to an uninterrupted run.
 
+    A safe run (``obstacles``, ``self_collision``) goes on checked with the obstacles and collision
+    settings its checkpoint records (:mod:`gb_pin.safety.record`), stepped as ``babble`` stepped it.
+
     Args:
         checkpoint: the file written by ``babble(..., checkpoint=...)``; it keeps
             being updated as the run goes on.
@@ -306,6 +309,12 @@ def resume(
     same_robot(checkpoint, robot, state)
     if checkpoint_every is not None:
         check.positive_int("checkpoint_every", checkpoint_every, 1, check.MAX_MOVEMENTS)
+    if info.safety is not None:  # a safe run goes on checked, with the obstacles its checkpoint records
+        if viewer is not None:
+            raise InvalidArgumentError("a safe run (obstacles, self_collision) resumes without a viewer")
+        from gb_pin.runs.stepped import resume_guarded
+
+        return resume_guarded(checkpoint, robot, callback, checkpoint_every)
     learner = GoalBabbling.from_config(info.config)
     learner.state_ = state
     runner = _Runner(robot, info.robot, info.seed, info.movements, checkpoint, wall_before=info.wall_time)

@@ -27,6 +27,7 @@ from gb_pin.learn.goals import make_goals
 from gb_pin.learn.state import BabbleState
 from gb_pin.runs import fields, robot_source
 from gb_pin.runs.archive import atomic_savez, check_digest, read_archive
+from gb_pin.safety.record import read_settings
 
 FORMAT = "gb_pin.checkpoint"
 FORMAT_VERSION = 2
@@ -52,6 +53,8 @@ class CheckpointInfo:
         evaluate: where a session's E^X comes from (``"model"``, ``"movements"``, ``"none"``).
         unobserved: test targets of a session's evaluation movements whose reading never arrived.
         robot_state: the arrays of a robot with a state of its own (a simulated plant), or None.
+        safety: a safe run's obstacles, collision settings and counts
+            (:func:`gb_pin.safety.record.settings_of`), or None: the run was not checked.
     """
 
     robot: str | None
@@ -64,6 +67,7 @@ class CheckpointInfo:
     evaluate: str = "model"
     unobserved: int = 0
     robot_state: dict[str, Any] | None = None
+    safety: dict[str, Any] | None = None
 
 
 ROBOT_STATE = "robot_state."
@@ -88,6 +92,8 @@ def write_checkpoint(path: str | os.PathLike[str], state: BabbleState, info: Che
     }
     if info.source is not None:
         meta["robot_source"] = info.source
+    if info.safety is not None:  # a safe run: resumed with the same check
+        meta["safety"] = info.safety
     arrays = dict(state.to_arrays())
     for key, value in (info.robot_state or {}).items():
         arrays[ROBOT_STATE + key] = value
@@ -156,6 +162,7 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[BabbleState, Checkpoi
             evaluate=_evaluate_mode(path, meta.get("evaluate", "model")),
             unobserved=fields.count(path, meta, "unobserved") if "unobserved" in meta else 0,
             robot_state=own or None,
+            safety=read_settings(meta.get("safety")),
         )
         state = read_state(path, arrays, meta, config)
     except GbPinError as exc:

@@ -45,9 +45,10 @@ class BabbleResult:
         goal_targets: (M, n) the goal set X* the goals came from, when it is not ``targets``
             (the test set, ``eval_targets=``); None when they are the same set.
         missing: learning steps whose reading was missing (a sensor's losses, or ``tell(None)``).
-        checked_asks: asks checked for collisions (safe babbling: ``obstacles``, ``self_collision``;
-            not saved in result files).
+        checked_asks: asks checked for collisions (safe babbling: ``obstacles``, ``self_collision``).
         cut_asks: of those, the asks cut short at the last safe posture.
+        safety: a safe run's obstacles, collision settings and counts as plain values
+            (:func:`gb_pin.safety.record.settings_of`; result files keep them); None: not checked.
         home_error: E_0 of the constant home estimate when this run continued another one
             (``babble(init=...)``, ``gb-pin babble --continue``), kept from the first run of the chain;
             None for a run from scratch, whose history starts with it (see :attr:`initial_error`).
@@ -70,6 +71,7 @@ class BabbleResult:
     missing: int = 0
     checked_asks: int = 0
     cut_asks: int = 0
+    safety: dict[str, Any] | None = field(default=None, repr=False)
     home_error: float | None = None
 
     def __repr__(self) -> str:

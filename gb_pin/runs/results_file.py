@@ -68,6 +68,8 @@ def write_result(result: BabbleResult, path: str | os.PathLike[str]) -> None:
         meta["goals"] = result.goals
     if result.home_error is not None:  # a continued run: the first run's E_0
         meta["home_error"] = result.home_error
+    if result.safety is not None:  # a safe run: its obstacles, collision settings and counts
+        meta["safety"] = result.safety
     if result.state is not None:  # the final state: babble(init=load_result(...)) continues the run
         from gb_pin.runs.checkpoint import state_header
 
@@ -155,6 +157,7 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             state=_state(path, arrays, meta, config, target),
             missing=fields.count(path, meta, "missing") if "missing" in meta else 0,
             home_error=fields.seconds(path, meta, "home_error") if "home_error" in meta else None,
+            **_safety(meta),
         )
     except GbPinError as exc:
         if isinstance(exc, ResultFileError):
@@ -162,6 +165,16 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
         raise ResultFileError(f"{path}: {exc}") from exc
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultFileError(f"{path}: corrupted result file ({exc!r})") from exc
+
+
+def _safety(meta: dict[str, Any]) -> dict[str, Any]:
+    """The result fields of a safe run's recorded settings (none for a run that was not checked)."""
+    from gb_pin.safety.record import read_settings
+
+    safety = read_settings(meta.get("safety"))
+    if safety is None:
+        return {}
+    return {"safety": safety, "checked_asks": safety["checked_asks"], "cut_asks": safety["cut_asks"]}
 
 
 def read_curves(path: str | os.PathLike[str]) -> tuple[History, str, int]:

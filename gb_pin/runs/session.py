@@ -39,6 +39,7 @@ from gb_pin.robot.external import ExternalRobot
 from gb_pin.runs import setup
 from gb_pin.runs.result import BabbleResult, state_fields
 from gb_pin.runs.spec import RunSpec
+from gb_pin.safety.record import result_fields, settings_of
 
 HOME, LEARN = "home", "learn"
 
@@ -116,11 +117,9 @@ class BabbleSession:
 
     def _safe(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """An ask other than a learning step, checked from the held posture (cut short if unsafe)."""
-        if self.guard is not None and self._held is not None:
-            cut = self.guard(self._held, q)
-            if cut is not None:
-                self.cuts += 1
-                q = np.asarray(cut, dtype=float)
+        cut = None if self.guard is None or self._held is None else self.guard(self._held, q)
+        self.cuts += cut is not None
+        q = q if cut is None else np.asarray(cut, dtype=float)
         self._held = q.copy()
         return q
 
@@ -313,7 +312,7 @@ class BabbleSession:
         self._stepper.sync()
         info = CheckpointInfo(
             robot=self.robot, target_name=self.target.name, movements=self.total, seed=self.seed,
-            config=self.state.config, wall_time=self.wall_time,
+            config=self.state.config, wall_time=self.wall_time, safety=settings_of(self.guard, self.cuts),
             source=describe(self.target, self.robot) if self.state.chain is not None else None,
             evaluate=self.evaluate, unobserved=self.unobserved, robot_state=robot_state(self.target),
         )  # fmt: skip
@@ -394,6 +393,7 @@ class BabbleSession:
             recording=learner.recording_,
             state=self.state,
             **state_fields(self.state),
+            **result_fields(self.guard, self.cuts),
         )
 
 
@@ -476,9 +476,8 @@ def resume_session(
             an external robot, a plant, or a model the file cannot rebuild. A simulated plant
             continues from the state the checkpoint saved.
         checkpoint_every: movements between checkpoints (default a tenth of the run).
-        guard: the collision checker of a safe session (``session.guard`` of the session saved, or a
-            :class:`gb_pin.CollisionChecker` built again): checkpoints do not record obstacles, so a
-            safe session resumed without one is not checked.
+        guard: a collision checker instead of the one built from the obstacles and settings a safe
+            session's checkpoint records (:mod:`gb_pin.safety.record`).
 
     Raises:
         ResultFileError: missing, corrupted or foreign checkpoint, or one of another robot.
@@ -492,9 +491,10 @@ def resume_session(
         robot = checkpoint_robot(checkpoint, info)
     same_robot(checkpoint, robot, state)
     restore_robot_state(checkpoint, robot, info.robot_state)  # a simulated plant continues where it was
+    guard = guard or setup.recorded_guard(robot, info.safety)  # its obstacles and settings, checked again
     session = BabbleSession(
         robot, state, info.movements, robot=info.robot, seed=info.seed, checkpoint=checkpoint,
         checkpoint_every=checkpoint_every, wall_before=info.wall_time, evaluate=info.evaluate, guard=guard,
     )  # fmt: skip
-    session.unobserved = info.unobserved
+    session.unobserved, session.cuts = info.unobserved, int((info.safety or {}).get("cut_asks", 0))
     return session

@@ -242,6 +242,19 @@ def safety_guard(spec: RunSpec, target: Any, X: NDArray[np.float64]) -> Any:
     Raises:
         UnsafeSetupError: a robot without a model, an obstacle at home, goals inside an obstacle, ...
     """
+    checker = guard_for(
+        target, spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance
+    )
+    checker.check_setup(X)
+    return checker
+
+
+def guard_for(target: Any, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> Any:
+    """The collision checker of these settings on ``target`` (a simulated plant's own when it checks them).
+
+    Raises:
+        UnsafeSetupError: a robot without a Pinocchio model (or a collision setup that cannot work).
+    """
     from gb_pin.exceptions import UnsafeSetupError
     from gb_pin.safety.checker import CollisionChecker
 
@@ -252,15 +265,31 @@ def safety_guard(spec: RunSpec, target: Any, X: NDArray[np.float64]) -> Any:
             f"got {target!r:.100}"
         )
     checker = getattr(target, "collision", None)  # a simulated plant's, with contacts on
-    if not (
-        isinstance(checker, CollisionChecker)
-        and checker.same_setup(
-            spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance
-        )
+    if isinstance(checker, CollisionChecker) and checker.same_setup(
+        obstacles, self_collision, geometry, clearance
     ):
-        checker = CollisionChecker(
-            kinematic, spec.obstacles or (), self_collision=spec.self_collision,
-            geometry=spec.collision_geometry, clearance=spec.clearance,
-        )  # fmt: skip
-    checker.check_setup(X)
+        return checker
+    return CollisionChecker(
+        kinematic, obstacles, self_collision=self_collision, geometry=geometry, clearance=clearance
+    )
+
+
+def recorded_guard(robot: Any, settings: dict[str, Any] | None) -> Any:
+    """The collision checker of a checkpoint's recorded ``settings`` (:mod:`gb_pin.safety.record`), or None.
+
+    On ``robot`` (a plant's own checker when it checks the same); its counts continue from the
+    recorded ones; the setup is checked again (home clear).
+
+    Raises:
+        UnsafeSetupError: as :func:`safety_guard`.
+    """
+    if settings is None:
+        return None
+    checker = guard_for(
+        robot, settings["obstacles"], settings["self_collision"], settings["collision_geometry"],
+        settings["clearance"],
+    )  # fmt: skip
+    checker.check_setup()
+    checker.asks = int(settings["checked_asks"])
+    checker.cuts = int(settings["cut_asks"])
     return checker

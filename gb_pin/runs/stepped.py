@@ -36,8 +36,9 @@ def babble_function(
         raise InvalidArgumentError(
             "viewer= needs a robot with a compiled chain (a KinematicTarget) or a plant built on one"
         )
+    name = run.name if getattr(target, "chain", None) is not None else None  # resume() rebuilds a preset
     session = BabbleSession(
-        target, setup.start_state(run), run.movements, robot=None, seed=run.seed, checkpoint=checkpoint,
+        target, setup.start_state(run), run.movements, robot=name, seed=run.seed, checkpoint=checkpoint,
         checkpoint_every=checkpoint_every, guard=run.guard,
     )  # fmt: skip
     every = max(1, run.movements // 100)
@@ -61,21 +62,42 @@ def babble_function(
                     callback(session.movements)
             return _with_counts(session)
 
-        forward = target.forward  # checks each reading, naming the model if it returns nonsense
-        while not session.done:
-            if not session.tell(forward(session.ask())):
-                continue
-            if callback is not None and session.movements % every == 0:
-                callback(session.movements)
-            if viewer is not None and session.movements % observe_every == 0:
-                viewer.update(session.state)
-        return _with_counts(session)
+        return drive(session, target.forward, callback, every, viewer, observe_every)
+
+
+def drive(
+    session: BabbleSession,
+    forward: Callable[[Any], Any],
+    callback: Callable[[int], Any] | None,
+    every: int,
+    viewer: Any | None = None,
+    observe_every: int = 10,
+) -> BabbleResult:
+    """Step ``session`` with ``forward`` (which checks each reading) to its end; its result."""
+    while not session.done:
+        if not session.tell(forward(session.ask())):
+            continue
+        if callback is not None and session.movements % every == 0:
+            callback(session.movements)
+        if viewer is not None and session.movements % observe_every == 0:
+            viewer.update(session.state)
+    return _with_counts(session)
+
+
+def resume_guarded(
+    checkpoint: str | os.PathLike[str],
+    robot: Any,
+    callback: Callable[[int], Any] | None,
+    checkpoint_every: int | None,
+) -> BabbleResult:
+    """:func:`gb_pin.resume` of a safe run: stepped, checked with the checkpoint's obstacles and settings."""
+    from gb_pin.runs.session import resume_session
+
+    with resume_session(checkpoint, robot, checkpoint_every=checkpoint_every) as session:
+        every = max(1, session.total // 100)
+        return drive(session, robot.forward, callback, every)
 
 
 def _with_counts(session: BabbleSession) -> BabbleResult:
-    """The session's result, with its guard's counts (asks checked, asks cut short)."""
-    result = session.result()
-    if session.guard is not None:
-        object.__setattr__(result, "checked_asks", int(getattr(session.guard, "asks", 0)))
-        object.__setattr__(result, "cut_asks", session.cuts)
-    return result
+    """The session's result (a safe session's carries its guard's settings and counts)."""
+    return session.result()

@@ -8,7 +8,8 @@ clearance (coal's security margin); coal sees only the pairs whose bounding sphe
 (:mod:`gb_pin.safety.broadphase`, compiled, all of a segment's samples at once). A straight
 joint-space segment is checked at postures so close that no point of the arm moves more than the
 clearance between two of them (a bound from the joints' lever arms), so a segment whose samples are
-safe never touches. Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
+safe never touches (each pair's bound counts only the joints that move its two shapes apart).
+Called as ``checker(q_from, q_to)`` it is the guard of an ask/tell run
 (:class:`gb_pin.learn.asktell.AskTell`): None when the segment is safe, else the last safe posture,
 where the movement is cut short.
 """
@@ -24,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import InvalidArgumentError, UnsafeSetupError
-from gb_pin.safety.broadphase import BOX, SLACK, SPHERE, TABLE, Spheres, sphere_candidates
+from gb_pin.safety.broadphase import BOX, SLACK, SPHERE, TABLE, Spheres, first_candidate, scratch
 from gb_pin.safety.geometry import RobotGeometry, robot_geometry
 from gb_pin.safety.matrix import DEFAULT_SAMPLES, CollisionMatrix, apply_srdf, cached_matrix
 from gb_pin.safety.obstacles import Box, Obstacle, Sphere, Table, check_obstacles
@@ -32,8 +33,8 @@ from gb_pin.safety.obstacles import Box, Obstacle, Sphere, Table, check_obstacle
 DEFAULT_CLEARANCE = 0.01
 """The default clearance [m] between checked shapes."""
 MAX_SEGMENT_SAMPLES = 10**5
-CHUNK = 32
-"""Samples of a segment prefiltered at once (most segments need a few; a cut stops at the first unsafe)."""
+COARSE_POINTS = 32
+"""Points per shape in the prefilter's middle test (:class:`~gb_pin.safety.broadphase.Spheres`)."""
 
 
 def _coal_shape(obstacle: Obstacle) -> tuple[Any, Any]:
@@ -123,7 +124,7 @@ class CollisionChecker:
         self._data = self._model.createData()
         self._broadphase()
         self._lever = self._levers()
-        self._factor = 2.0 if self_collision else 1.0  # two moving shapes: twice the relative motion
+        self._pair_lever = self._pair_levers()
         self.slide = bool(slide)  # after a cut, slide joint by joint along the obstacle (slide_posture)
         self.checks = 0  # postures checked
         self.asks = 0  # segments checked
@@ -133,7 +134,7 @@ class CollisionChecker:
         """Bounding spheres of the shapes, the checked pairs and the obstacles, as the prefilter's arrays.
 
         Only the pairs whose spheres come within the clearance go to coal
-        (:func:`gb_pin.safety.broadphase.sphere_candidates`).
+        (:func:`gb_pin.safety.broadphase.first_candidate`).
         """
         gm = self.collision_model
         k = len(self.geometry.body)
@@ -170,10 +171,28 @@ class CollisionChecker:
                 self._kind[o] = SPHERE
                 self._where[o] = obstacle.center
                 self._size[o, 0] = obstacle.radius
+        points, first, inflate = _shape_points(gm, k)
+        corners = np.zeros((k, 8, 3))
+        signs = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
+        coarse: list[NDArray[np.float64]] = []
+        coarse_first = np.zeros(k + 1, dtype=np.int64)
+        coarse_inflate = inflate.copy()
+        for s in range(k):
+            mine = points[first[s] : first[s + 1]]
+            if len(mine):
+                corners[s] = mine.min(axis=0) + signs * (mine.max(axis=0) - mine.min(axis=0))
+                few, spread = _farthest_points(mine, COARSE_POINTS)
+                coarse.append(few)
+                coarse_inflate[s] += spread
+            coarse_first[s + 1] = coarse_first[s] + (len(coarse[-1]) if len(mine) else 0)
+        few_points = np.ascontiguousarray(np.concatenate(coarse) if coarse else np.zeros((0, 3)))
         self._spheres = Spheres(
             self._chain_of, self._centres, self._radii, self._pair_a, self._pair_b, self._kind, self._where,
-            self._size,
+            self._size, points, first, inflate, corners, few_points, coarse_first, coarse_inflate,
         )  # fmt: skip
+        self._ws = scratch(self.target.n_joints, self._pair_a.shape[0], k)
+        self._entry: Any = None  # first_candidate compiled for these arrays (see _first)
+        self._mask = self._ws.mask
         # the Pinocchio configuration of a posture: a scatter into the home configuration when every
         # joint takes one entry (no continuous joint, written as cos and sin), else target.to_pinocchio
         jids = [int(model.getJointId(j)) for j in self.target.joints]
@@ -181,19 +200,21 @@ class CollisionChecker:
         if all(int(model.joints[j].nq) == 1 for j in jids):
             self._base = np.array(self.target.to_pinocchio(self.target.home), dtype=float)
             self._idx_q = np.array([int(model.joints[j].idx_q) for j in jids], dtype=np.int64)
-        chain = self.target.chain
-        self._joints = chain.joints
-        self._rot_ws = np.empty((chain.n_joints, 3, 3))
-        self._pos_ws = np.empty((chain.n_joints, 3))
+        self._joints = self.target.chain.joints
 
-    def _candidates(self, Q: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """(n, pairs): the checked pairs whose bounding spheres come within the clearance at each posture."""
-        Q = np.ascontiguousarray(Q, dtype=np.float64).reshape(-1, self.target.n_joints)
-        out = np.empty((Q.shape[0], self._pair_a.shape[0]), dtype=np.bool_)
-        sphere_candidates(
-            Q, self._joints, self._rot_ws, self._pos_ws, self._spheres, self.clearance + SLACK, out
-        )
-        return out
+    def _first(self, a: NDArray[np.float64], b: NDArray[np.float64], n: int, k0: int) -> int:
+        """The first sample k >= k0 of the segment with a pair not proven clear (its pairs in ``_mask``).
+
+        After the first call, the compiled version for these argument types is called directly
+        (numba's dispatch types each of the two dozen arrays on every call: 11 us of 15).
+        """
+        args = (a, b, n, k0, self._joints, self._spheres, self.clearance + SLACK, self._ws)
+        if self._entry is None:
+            k = first_candidate(*args)
+            signature = tuple(first_candidate.typeof_pyval(x) for x in args)
+            self._entry = first_candidate.overloads[signature].entry_point  # type: ignore[attr-defined]
+            return int(k)
+        return int(self._entry(*args))
 
     def _configuration(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """``target.to_pinocchio(q)``, without its Python loop where the joints allow."""
@@ -238,6 +259,43 @@ class CollisionChecker:
                 a = int(g.parents[a])
         return lever
 
+    def _pair_levers(self) -> NDArray[np.float64]:
+        """(P, m): per checked pair, how far its shapes move relative to each other per unit of each joint.
+
+        A shape's points move at most ``lever[s, j]`` (its distance from joint j's origin, bounded
+        along the chain) per unit of joint j above it. Against an obstacle: its own joints. Two of
+        the arm's shapes: only the joints between them (those above both move them together),
+        each shape's own lever.
+        """
+        g = self.geometry
+        model = self._model
+        ids = [int(model.getJointId(j)) for j in self.target.joints]
+        link = np.array([float(np.linalg.norm(model.jointPlacements[jid].translation)) for jid in ids])
+        span = np.where(
+            np.isfinite(self.target.upper - self.target.lower), self.target.upper - self.target.lower, 0.0
+        )
+        prismatic = np.array(["P" in model.joints[jid].shortname() for jid in ids])
+        k, m = len(g.body), len(ids)
+        lever = np.zeros((k, m))
+        above = np.zeros((k, m), dtype=bool)
+        for s in range(k):
+            dist = float(g.reach[s])
+            a = int(g.body[s])
+            while a >= 0:
+                lever[s, a] = 1.0 if prismatic[a] else dist
+                above[s, a] = True
+                dist += link[a] + (abs(span[a]) if prismatic[a] else 0.0)
+                a = int(g.parents[a])
+        out = np.zeros((self._pair_a.shape[0], m))
+        for p, (a, b) in enumerate(zip(self._pair_a, self._pair_b, strict=True)):
+            if b >= k:  # an obstacle
+                out[p] = lever[a]
+            else:
+                out[p] = np.where(above[a] & ~above[b], lever[a], 0.0) + np.where(
+                    above[b] & ~above[a], lever[b], 0.0
+                )
+        return out
+
     def same_setup(self, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> bool:
         """Whether this checker checks exactly these (so that a plant's checker can serve a run)."""
         return (
@@ -251,8 +309,8 @@ class CollisionChecker:
     def is_safe(self, q: ArrayLike) -> bool:
         """Whether posture ``q`` (m,) keeps every checked pair at least the clearance apart."""
         self.checks += 1
-        q = np.asarray(q, dtype=float)
-        return self._coal_safe(q, self._candidates(q)[0])
+        q = np.ascontiguousarray(q, dtype=float)
+        return self._first(q, q, 1, 1) > 1 or self._coal_safe(q, self._mask)
 
     def contacts(self, q: ArrayLike) -> list[tuple[str, str]]:
         """The checked pairs within the clearance at posture ``q``, by their shapes' names."""
@@ -267,32 +325,33 @@ class CollisionChecker:
         return out
 
     def samples(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> int:
-        """Postures checked on the segment: no point moves more than the clearance between two."""
-        travel = self._factor * float(np.dot(self._lever, np.abs(q_to - q_from)))
+        """Postures checked on the segment: no pair's shapes move more than the clearance between two.
+
+        (Relative to each other: :meth:`_pair_levers`.)
+        """
+        if self._pair_lever.shape[0] == 0:
+            return 1
+        travel = float(np.max(self._pair_lever @ np.abs(q_to - q_from)))
         return min(MAX_SEGMENT_SAMPLES, max(1, math.ceil(travel / self.clearance)))
 
     def cut(self, q_from: ArrayLike, q_to: ArrayLike) -> tuple[NDArray[np.float64], bool]:
         """The last safe posture on the straight segment from ``q_from`` (safe) to ``q_to``.
 
+        Its :meth:`samples` are walked in compiled code (:func:`~gb_pin.safety.broadphase.first_candidate`);
+        only those with a pair not proven clear go to coal, on those pairs.
+
         Returns (posture, whether the whole segment is safe: then the posture is ``q_to``).
         """
-        a = np.asarray(q_from, dtype=float)
-        b = np.asarray(q_to, dtype=float)
+        a = np.ascontiguousarray(q_from, dtype=float)
+        b = np.ascontiguousarray(q_to, dtype=float)
         n = self.samples(a, b)
-        last = a
-        for start in range(1, n + 1, CHUNK):
-            ks = np.arange(start, min(n, start + CHUNK - 1) + 1)
-            Q = a + (ks / n)[:, None] * (b - a)
-            if ks[-1] == n:
-                Q[-1] = b
-            candidates = self._candidates(Q)
-            # only the samples with close spheres go to coal: the others are safe
-            for i in np.flatnonzero(candidates.any(axis=1)):
-                if not self._coal_safe(Q[i], candidates[i]):
-                    self.checks += int(i) + 1
-                    return (Q[i - 1] if i > 0 else last).copy(), False
-            self.checks += len(ks)
-            last = Q[-1]
+        k = self._first(a, b, n, 1)
+        while k <= n:
+            if not self._coal_safe(b if k == n else a + (k / n) * (b - a), self._mask):
+                self.checks += k
+                return (a + ((k - 1) / n) * (b - a) if k > 1 else a.copy()), False
+            k = self._first(a, b, n, k + 1)
+        self.checks += n
         return b.copy(), True
 
     def __call__(self, q_from: NDArray[np.float64], q_to: NDArray[np.float64]) -> NDArray[np.float64] | None:
@@ -361,6 +420,52 @@ class CollisionChecker:
         if isinstance(o, Table):
             return f"the table (z <= {o.height} m)"
         return repr(o)
+
+
+def _shape_points(gm: Any, k: int) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
+    """The robot shapes' points in their joint frames, where they start, and the radius around them.
+
+    A convex hull: its vertices; a box: its corners; a capsule: its two ends and radius; a sphere:
+    its centre and radius; any other shape: none (its bounding sphere alone is tested).
+    """
+    import coal
+
+    chunks: list[NDArray[np.float64]] = []
+    first = np.zeros(k + 1, dtype=np.int64)
+    inflate = np.zeros(k)
+    for s in range(k):
+        obj = gm.geometryObjects[s]
+        g = obj.geometry
+        local: NDArray[np.float64] | None = None
+        if isinstance(g, coal.Box):
+            h = np.asarray(g.halfSide)
+            local = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * h
+        elif isinstance(g, coal.Capsule):
+            local = np.array([[0.0, 0.0, -g.halfLength], [0.0, 0.0, g.halfLength]])
+            inflate[s] = g.radius
+        elif isinstance(g, coal.Sphere):
+            local = np.zeros((1, 3))
+            inflate[s] = g.radius
+        elif isinstance(g, coal.ConvexBase):
+            local = np.asarray(g.points(), dtype=float).reshape(-1, 3)
+        if local is not None and len(local):
+            R = np.asarray(obj.placement.rotation)
+            chunks.append(local @ R.T + np.asarray(obj.placement.translation))
+        first[s + 1] = first[s] + (len(chunks[-1]) if local is not None and len(local) else 0)
+    points = np.ascontiguousarray(np.concatenate(chunks) if chunks else np.zeros((0, 3)))
+    return points, first, inflate
+
+
+def _farthest_points(points: NDArray[np.float64], count: int) -> tuple[NDArray[np.float64], float]:
+    """``count`` of ``points`` spread by farthest-point sampling, and how far any point is from them [m]."""
+    if len(points) <= count:
+        return points.copy(), 0.0
+    chosen = [int(np.argmax(np.linalg.norm(points - points.mean(axis=0), axis=1)))]
+    gap = np.linalg.norm(points - points[chosen[0]], axis=1)
+    for _ in range(count - 1):
+        chosen.append(int(np.argmax(gap)))
+        gap = np.minimum(gap, np.linalg.norm(points - points[chosen[-1]], axis=1))
+    return points[chosen].copy(), float(gap.max()) + SLACK
 
 
 def describe_obstacles(obstacles: Any) -> str:
