@@ -365,15 +365,16 @@ def test_checkpoints_and_results_record_the_obstacles_and_resume_checked(tmp_pat
                                                                      full.checked_asks)  # fmt: skip
     assert gb_pin.babble("so101", movements=2).safety is None
     from gb_pin.runs.archive import atomic_savez, read_archive
+    from gb_pin.runs.checkpoint import FORMAT_VERSION
 
-    arrays, meta = read_archive(str(path), "checkpoint", "gb_pin.checkpoint", 1)
+    arrays, meta = read_archive(str(path), "checkpoint", "gb_pin.checkpoint", FORMAT_VERSION)
     for bad in ({"obstacles": [{"kind": "cube"}]}, {"clearance": -1.0}, {"self_collision": "yes"}, []):
         meta2 = dict(meta)
         meta2["safety"] = {**meta["safety"], **bad} if isinstance(bad, dict) else bad
-        atomic_savez(str(tmp_path / "bad.npz"), arrays, meta2)
+        atomic_savez(str(tmp_path / "bad.npz"), arrays, meta2, digest=True)  # a well-formed file
         with pytest.raises(ResultFileError) as error:
             gb_pin.resume_session(tmp_path / "bad.npz")
-        assert "\n" not in str(error.value)
+        assert "\n" not in str(error.value) and "digest" not in str(error.value)
 
 
 def plain_box(box: Box) -> dict:
