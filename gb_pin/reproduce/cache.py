@@ -8,13 +8,15 @@ trials again. The folder holds a ``.gitignore`` (the files are several MB each).
 
 from __future__ import annotations
 
+import json
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
 
-from gb_pin._files import save_or_fallback, write_text
+from gb_pin._files import save_or_fallback, write_json, write_text
 from gb_pin.exceptions import ResultFileError
 from gb_pin.experiments.trials import Condition, TrialSet, run_sweep
 from gb_pin.reproduce.conditions import Settings
@@ -106,3 +108,42 @@ def collect(
             save_or_fallback(cache_path(settings.out, c, settings), ts.save, "the trials")  # never lost
             found[c] = ts
     return found
+
+
+def run_cached(
+    out: str,
+    todo: Sequence[Any],
+    filename: Callable[[Any], str],
+    run: Callable[[Any], dict[str, Any]],
+    workers: int | None,
+    fresh: bool,
+    progress: bool,
+) -> dict[Any, dict[str, Any]]:
+    """Each condition's summary, read from ``OUT/trials/FILENAME`` or run in worker processes and saved.
+
+    The studies of one summary per condition (``reproduce hardware``, ``reproduce workspace``) share
+    it: a cached file is read unless ``fresh``; the rest run in a process pool, each saved as it
+    ends, so an interrupted study resumes from its last finished condition. ``run`` must be a
+    module-level function (it is sent to the workers).
+    """
+    cache = os.path.join(out, "trials")
+    os.makedirs(cache, exist_ok=True)
+    write_text(os.path.join(cache, ".gitignore"), GITIGNORE)
+    results: dict[Any, dict[str, Any]] = {}
+    missing = []
+    for cond in todo:
+        path = os.path.join(cache, filename(cond))
+        if not fresh and os.path.exists(path):
+            with open(path, encoding="utf-8") as f:
+                results[cond] = json.load(f)
+        else:
+            missing.append(cond)
+    if missing:
+        with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+            futures = {cond: pool.submit(run, cond) for cond in missing}
+            for i, (cond, future) in enumerate(futures.items()):
+                results[cond] = future.result()
+                write_json(os.path.join(cache, filename(cond)), results[cond])
+                if progress:
+                    print(f"  {i + 1}/{len(futures)} {cond.key}", flush=True)
+    return results

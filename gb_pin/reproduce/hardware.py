@@ -25,7 +25,7 @@ import json
 import math
 import os
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from gb_pin import _validation as check
 from gb_pin._files import write_json, write_text
-from gb_pin.reproduce.cache import GITIGNORE
+from gb_pin.reproduce.cache import run_cached
 
 SNAPSHOTS = (300, 1000, 3000, 10_000)
 NOISES = (0.0, 0.0002, 0.0015, 0.003)  # tracker noise per axis [m]: none, motion capture, cameras
@@ -160,25 +160,8 @@ def run_hardware(
     arms = check.positive_int("arms", arms, 1, 1000)
     check.positive_int("movements", movements, SNAPSHOTS[-1], check.MAX_MOVEMENTS)
     todo = conditions(robots, arms)
-    cache = os.path.join(out, "trials")
-    os.makedirs(cache, exist_ok=True)
-    write_text(os.path.join(cache, ".gitignore"), GITIGNORE)
-    results: dict[Condition, dict[str, Any]] = {}
-    missing = []
-    for cond in todo:
-        path = os.path.join(cache, cond.key + ".json")
-        if not fresh and os.path.exists(path):
-            with open(path, encoding="utf-8") as f:
-                results[cond] = json.load(f)
-        else:
-            missing.append(cond)
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
-        futures = {cond: pool.submit(run_condition, cond, movements) for cond in missing}
-        for i, (cond, future) in enumerate(futures.items()):
-            results[cond] = future.result()
-            write_json(os.path.join(cache, cond.key + ".json"), results[cond])
-            if progress:
-                print(f"  {i + 1}/{len(futures)} {cond.key}", flush=True)
+    results = run_cached(out, todo, lambda c: c.key + ".json", partial(run_condition, movements=movements),
+                         workers, fresh, progress)  # fmt: skip
     from gb_pin.reproduce.hardware_figure import draw_robot, tables
 
     rows = [results[c] for c in todo]

@@ -19,14 +19,14 @@ import math
 import os
 import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from gb_pin import _validation as check
 from gb_pin._files import write_json, write_text
-from gb_pin.reproduce.cache import GITIGNORE
+from gb_pin.reproduce.cache import run_cached
 
 SNAPSHOTS = (3000, 10_000, 30_000)
 ROBOTS = ("so101", "panda", "talos_left_arm")
@@ -141,26 +141,8 @@ def run_workspace(
     seeds = check.positive_int("seeds", seeds, 1, 1000)
     check.positive_int("movements", movements, SNAPSHOTS[0], check.MAX_MOVEMENTS)
     todo = conditions(robots, fractions, seeds)
-    cache = os.path.join(out, "trials")
-    os.makedirs(cache, exist_ok=True)
-    write_text(os.path.join(cache, ".gitignore"), GITIGNORE)
-    results: dict[Condition, dict[str, Any]] = {}
-    missing = []
-    for cond in todo:
-        path = os.path.join(cache, f"{cond.key}_m{movements}.json")
-        if not fresh and os.path.exists(path):
-            with open(path, encoding="utf-8") as f:
-                results[cond] = json.load(f)
-        else:
-            missing.append(cond)
-    if missing:
-        with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
-            futures = {cond: pool.submit(run_condition, cond, movements) for cond in missing}
-            for i, (cond, future) in enumerate(futures.items()):
-                results[cond] = future.result()
-                write_json(os.path.join(cache, f"{cond.key}_m{movements}.json"), results[cond])
-                if progress:
-                    print(f"  {i + 1}/{len(futures)} {cond.key}", flush=True)
+    results = run_cached(out, todo, lambda c: f"{c.key}_m{movements}.json",
+                         partial(run_condition, movements=movements), workers, fresh, progress)  # fmt: skip
     from gb_pin.reproduce.workspace_figure import draw_robot, table
 
     rows = [results[c] for c in todo]
