@@ -56,8 +56,13 @@ class PlantCamera:
         bgr = rgb[:, :, ::-1]
         if self.pixel_noise <= 0:
             return np.ascontiguousarray(bgr)
-        noisy = bgr + self.pixel_noise * self.rng.standard_normal(bgr.shape, dtype=np.float32)
-        return np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
+        # in place, the same float32 operations in the same order as bgr + s * noise (no temporaries)
+        noisy = self.rng.standard_normal(bgr.shape, dtype=np.float32)
+        noisy *= np.float32(self.pixel_noise)
+        noisy += bgr
+        np.rint(noisy, out=noisy)
+        np.clip(noisy, 0, 255, out=noisy)
+        return noisy.astype(np.uint8)
 
     def intrinsics(self) -> Any:
         """The rendering's exact :class:`~gb_pin.vision.intrinsics.Intrinsics` (no distortion)."""
