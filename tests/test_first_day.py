@@ -233,6 +233,24 @@ def test_robots_md_results_table_has_every_preset() -> None:
             assert rows.get(n) == axes, f"docs/ROBOTS.md's results table: {n} {rows.get(n)!r}, not {axes}"
 
 
+def test_checkpoint_of_another_run_is_never_clobbered(tmp_path: Path, capsys: Any) -> None:
+    """A new run given an existing --checkpoint refuses before any work (--resume continues it)."""
+    ckpt = tmp_path / "run.ckpt"
+    args = ["babble", "--robot", "planar5", "--movements", "20", "--quiet", "--checkpoint", str(ckpt)]
+    assert main(args) == 0
+    before = ckpt.read_bytes()
+    capsys.readouterr()
+    assert main([*args[:4], "10", *args[5:]]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(ckpt) in err and "--resume" in err and "--overwrite" in err
+    assert ckpt.read_bytes() == before
+    assert main(["babble", "--resume", str(ckpt), "--quiet"]) == 0  # what the line offers works
+    assert main([*args[:4], "10", *args[5:], "--overwrite"]) == 0
+    from gb_pin.runs.checkpoint import read_checkpoint
+
+    assert read_checkpoint(ckpt)[1].movements == 10
+
+
 def _refuses(argv: list[str], existing: Path, capsys: Any) -> None:
     """The command exits 2 with one line naming ``existing`` and --overwrite; the file is untouched."""
     existing.write_bytes(b"keep me")

@@ -20,6 +20,13 @@ each prototype's numbers o_k, W_k stored together, eight outputs side by side in
 (:mod:`~gb_pin.learn.llm_simd`). Sums over j and over k keep their order, and the minimum is exact
 in any order: the numbers are those of plain per-prototype loops with that exp
 (tests/test_llm_kernels.py checks it bit for bit).
+
+A truncated map (``cutoff`` c, not the paper's: a workspace region's map of hundreds of prototypes)
+leaves out of the sums, the Jacobian and the update every prototype whose activation is below
+exp(-c^2) of the nearest one's: the distances are computed for all K, the rest only for the
+prototypes listed near x (:func:`_truncated_sums`), in increasing k, so that the numbers are those of
+the same per-prototype loops skipping the others (tested bit for bit). Without a cutoff (every
+preset's run) the code path is the one above.
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
@@ -32,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
-from gb_pin.learn.llm_simd import LANES, block_sum, block_update
+from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
 from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
 
@@ -56,6 +63,10 @@ class MapArrays(NamedTuple):
         inputs: (n + 1, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last
             prediction (rows 0..n-1), then ||u_k||^2.
         errors: (m',) scratch: the error q - g(x) of a learning step, zeros after entry m - 1.
+        cutoff: c^2, the truncation of the sums (:func:`llm_predict`) [radii^2]; inf: every
+            prototype (the paper's sums).
+        nearby: (capacity + 1,) scratch of a truncated prediction: ``nearby[0]`` prototypes
+            entered its sums, their indices k in ``nearby[1:]`` (increasing).
     """
 
     prototypes: NDArray[np.float64]
@@ -64,6 +75,8 @@ class MapArrays(NamedTuple):
     act: NDArray[np.float64]
     inputs: NDArray[np.float64]
     errors: NDArray[np.float64]
+    cutoff: float
+    nearby: NDArray[np.int64]
 
 
 class Scratch(NamedTuple):
@@ -141,6 +154,8 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
+    if lm.cutoff < np.inf:
+        return _truncated_sums(lm, K, nearest, out), nearest
     # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN): vexp in SIMD
     # code, then math.exp for the rare argument beyond its range (a prototype 26 radii farther
     # than the nearest, or NaN).
@@ -170,6 +185,43 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     return total, nearest
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def _truncated_sums(lm, K, nearest, out):  # type: ignore[no-untyped-def]
+    """g(x) into ``out`` over the prototypes near x only; returns the sum of their activations.
+
+    A truncated map leaves out of the sums every prototype whose activation is below exp(-c^2)
+    of the nearest one's, ||u_k||^2 > min_j ||u_j||^2 + c^2 (``lm.cutoff`` = c^2): their share
+    of g is at most exp(-c^2) each (c = 4: 1.1e-7), while a region's map of 800 prototypes has
+    about 110 within it (docs/WORKSPACE.md), so the exponentials, the sums and the update cost
+    K/7 of the whole map's. The list goes to ``lm.nearby`` in increasing k (the order of the
+    untruncated sums), their activations to ``lm.act[:count]`` in the list's order.
+    """
+    sq, act, near = lm.inputs[lm.prototypes.shape[0]], lm.act, lm.nearby  # ||u_k||^2: the row after u_k
+    limit = nearest + lm.cutoff
+    count = 0
+    for k in range(K):  # without a branch: the prototypes near x lie scattered over k
+        near[count + 1] = k
+        count += sq[k] <= limit
+    near[0] = count
+    for t in range(count):  # the exponents gathered, then the exponentials in SIMD code
+        act[t] = nearest - sq[near[t + 1]]
+    for t in range(count):
+        act[t] = vexp(act[t])
+    m = out.shape[0]
+    total = 0.0
+    for block in range(lm.models.shape[2] // LANES):
+        sums = block_sum_near(lm.models, lm.inputs, act, near, block)
+        for r in range(LANES):
+            i = LANES * block + r
+            if i < m:
+                out[i] = sums[r]
+            elif i == m:
+                total = sums[r]
+    for i in range(m):
+        out[i] /= total
+    return total
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     """dg/dx into ``scratch.J`` (m, n) and g(x) into ``scratch.g`` (m,), the responsibilities' derivative in.
@@ -191,8 +243,10 @@ def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-d
     for i in range(m):
         for j in range(n):
             J[i, j] = 0.0
-    for k in range(K):
-        beta = act[k] / total
+    truncated = lm.cutoff < np.inf
+    for t in range(lm.nearby[0] if truncated else K):
+        k = lm.nearby[1 + t] if truncated else t
+        beta = act[t] / total  # truncated: the activations in the list's order
         for i in range(m):
             yi = M[k, 0, i]
             for j in range(n):
@@ -249,8 +303,12 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
         e[i] = q[i] - g[i]  # the error e (its padding stays zero)
     scale = eta * w / total
     # c_k e = (scale b_k) e added to o_k and (c_k e) u_kj to column j of W_k, eight outputs at a time.
+    truncated = lm.cutoff < np.inf
     for block in range(lm.models.shape[2] // LANES):
-        block_update(lm.models, lm.inputs, lm.act, K, block, e, scale, m - LANES * block)
+        if truncated:
+            block_update_near(lm.models, lm.inputs, lm.act, lm.nearby, block, e, scale, m - LANES * block)
+        else:
+            block_update(lm.models, lm.inputs, lm.act, K, block, e, scale, m - LANES * block)
     return K
 
 
