@@ -138,8 +138,8 @@ def test_exported_inverse_read_with_numpy_alone_predicts_as_result_inverse(tmp_p
     spec.loader.exec_module(reader)
     source = example.read_text()
     assert "import gb_pin" not in source and "numba" not in source.split('"""')[2]
-    for robot in ("planar5", "talos_left_arm_pose"):
-        result = gb_pin.babble(robot, movements=200, seed=1)
+    for robot, targets in (("planar5", None), ("talos_left_arm_pose", None), ("so101", "workspace")):
+        result = gb_pin.babble(robot, movements=200, seed=1, targets=targets)  # so101: a truncated map
         path = result.export_inverse(tmp_path / f"{robot}.npz")
         inverse = reader.load_inverse(path)
         X = np.vstack([result.targets, result.targets[:3] + 0.01])

@@ -20,7 +20,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import ExtrapolationWarning, InvalidArgumentError, NotFittedError
-from gb_pin.learn.llm_kernels import MapArrays, Scratch, llm_jacobian, llm_learn, llm_predict_many
+from gb_pin.learn.llm_kernels import (
+    MapArrays,
+    Scratch,
+    TruncatedMapArrays,
+    llm_jacobian,
+    llm_learn,
+    llm_predict_many,
+)
 from gb_pin.learn.llm_simd import LANES
 
 
@@ -196,7 +203,9 @@ class LocalLinearMap:
     def kernel(self) -> MapArrays:
         """The storage and scratch buffers as the compiled kernels take them."""
         self._check_fitted()
-        return MapArrays(
+        if self._cutoff_sq == float("inf"):
+            return MapArrays(self._P, self._M, self._radius, self._act, self._U, self._e)
+        return TruncatedMapArrays(  # type: ignore[return-value]  # the same storage and its list
             self._P, self._M, self._radius, self._act, self._U, self._e, self._cutoff_sq, self._near
         )
 

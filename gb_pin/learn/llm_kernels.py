@@ -33,10 +33,13 @@ preset's run) the code path is the one above.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from numba import types
+from numba.extending import overload
 
 from gb_pin._jit import njit
 from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
@@ -63,10 +66,27 @@ class MapArrays(NamedTuple):
         inputs: (n + 1, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last
             prediction (rows 0..n-1), then ||u_k||^2.
         errors: (m',) scratch: the error q - g(x) of a learning step, zeros after entry m - 1.
-        cutoff: c^2, the truncation of the sums (:func:`llm_predict`) [radii^2]; inf: every
-            prototype (the paper's sums).
-        nearby: (capacity + 1,) scratch of a truncated prediction: ``nearby[0]`` prototypes
-            entered its sums, their indices k in ``nearby[1:]`` (increasing).
+    """
+
+    prototypes: NDArray[np.float64]
+    models: NDArray[np.float64]
+    radius: float
+    act: NDArray[np.float64]
+    inputs: NDArray[np.float64]
+    errors: NDArray[np.float64]
+
+
+class TruncatedMapArrays(NamedTuple):
+    """:class:`MapArrays` of a truncated map: the same storage, its cutoff and the list of the prototypes near x.
+
+    A type of its own, so that the kernels compile the truncated sums for it only (:func:`truncated`
+    is a constant of the type): an untruncated map, every preset's, runs the code it ran before.
+
+    Attributes:
+        cutoff: c^2 [radii^2]: prototypes with ||u_k||^2 > min_j ||u_j||^2 + c^2 are left out.
+        nearby: (capacity + 1,) scratch of a prediction: ``nearby[0]`` prototypes entered its
+            sums, their indices k in ``nearby[1:]`` (increasing); ``act[:nearby[0]]`` their
+            activations, in that order.
     """
 
     prototypes: NDArray[np.float64]
@@ -77,6 +97,45 @@ class MapArrays(NamedTuple):
     errors: NDArray[np.float64]
     cutoff: float
     nearby: NDArray[np.int64]
+
+
+def _is_truncated_type(lm: Any) -> bool:
+    return isinstance(lm, types.BaseNamedTuple) and lm.instance_class is TruncatedMapArrays
+
+
+def truncated(lm):  # type: ignore[no-untyped-def]
+    """Whether ``lm`` is a :class:`TruncatedMapArrays` (in compiled code: a constant of its type)."""
+    return isinstance(lm, TruncatedMapArrays)
+
+
+@overload(truncated, inline="always")
+def _truncated_overload(lm):  # type: ignore[no-untyped-def]
+    flag = _is_truncated_type(lm)
+    return lambda lm: flag
+
+
+def listed(lm, K):  # type: ignore[no-untyped-def]
+    """How many prototypes the last prediction's sums ran over: K, or ``nearby[0]`` if truncated."""
+    return int(lm.nearby[0]) if isinstance(lm, TruncatedMapArrays) else K
+
+
+@overload(listed, inline="always")
+def _listed_overload(lm, K):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda lm, K: lm.nearby[0]
+    return lambda lm, K: K
+
+
+def prototype(lm, t):  # type: ignore[no-untyped-def]
+    """The index k of the t-th prototype of the last prediction's sums: t, or ``nearby[1 + t]`` if truncated."""
+    return int(lm.nearby[1 + t]) if isinstance(lm, TruncatedMapArrays) else t
+
+
+@overload(prototype, inline="always")
+def _prototype_overload(lm, t):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda lm, t: lm.nearby[1 + t]
+    return lambda lm, t: t
 
 
 class Scratch(NamedTuple):
@@ -154,8 +213,8 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     s0 = s1 if s1 < s0 else s0
     s2 = s3 if s3 < s2 else s2
     nearest = s2 if s2 < s0 else s0
-    if lm.cutoff < np.inf:
-        return _truncated_sums(lm, K, nearest, out), nearest
+    if truncated(lm):  # a constant of lm's type: one of the two paths is compiled
+        return truncated_sums(lm, K, nearest, out), nearest
     # The activations b_k = exp(nearest - ||u_k||^2) (arguments <= 0, or NaN): vexp in SIMD
     # code, then math.exp for the rare argument beyond its range (a prototype 26 radii farther
     # than the nearest, or NaN).
@@ -183,6 +242,18 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     for i in range(m):
         out[i] /= total
     return total, nearest
+
+
+def truncated_sums(lm, K, nearest, out):  # type: ignore[no-untyped-def]
+    """g(x) into ``out`` over the prototypes near x only (compiled code; :func:`_truncated_sums`)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(truncated_sums)
+def _truncated_sums_overload(lm, K, nearest, out):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda lm, K, nearest, out: _truncated_sums(lm, K, nearest, out)
+    return lambda lm, K, nearest, out: 0.0  # never called: the untruncated path
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -243,10 +314,9 @@ def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-d
     for i in range(m):
         for j in range(n):
             J[i, j] = 0.0
-    truncated = lm.cutoff < np.inf
-    for t in range(lm.nearby[0] if truncated else K):
-        k = lm.nearby[1 + t] if truncated else t
-        beta = act[t] / total  # truncated: the activations in the list's order
+    for t in range(listed(lm, K)):  # K, or the prototypes near x of a truncated map
+        k = prototype(lm, t)
+        beta = act[t] / total  # in the order of the sums (t = k without a cutoff)
         for i in range(m):
             yi = M[k, 0, i]
             for j in range(n):
@@ -303,13 +373,29 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
         e[i] = q[i] - g[i]  # the error e (its padding stays zero)
     scale = eta * w / total
     # c_k e = (scale b_k) e added to o_k and (c_k e) u_kj to column j of W_k, eight outputs at a time.
-    truncated = lm.cutoff < np.inf
     for block in range(lm.models.shape[2] // LANES):
-        if truncated:
-            block_update_near(lm.models, lm.inputs, lm.act, lm.nearby, block, e, scale, m - LANES * block)
-        else:
-            block_update(lm.models, lm.inputs, lm.act, K, block, e, scale, m - LANES * block)
+        update_block(lm, K, block, e, scale, m - LANES * block)
     return K
+
+
+def update_block(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+    """The gradient step's update of one block of outputs (compiled code): every prototype, or those listed."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(update_block, inline="always")
+def _update_block_overload(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+
+        def near(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+            block_update_near(lm.models, lm.inputs, lm.act, lm.nearby, block, errors, scale, used)
+
+        return near
+
+    def whole(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+        block_update(lm.models, lm.inputs, lm.act, K, block, errors, scale, used)
+
+    return whole
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
