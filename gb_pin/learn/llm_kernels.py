@@ -36,10 +36,9 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
-
 from numba import types
 from numba.extending import overload
+from numpy.typing import NDArray
 
 from gb_pin._jit import njit
 from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
@@ -100,7 +99,7 @@ class TruncatedMapArrays(NamedTuple):
 
 
 def _is_truncated_type(lm: Any) -> bool:
-    return isinstance(lm, types.BaseNamedTuple) and lm.instance_class is TruncatedMapArrays
+    return isinstance(lm, types.BaseNamedTuple) and getattr(lm, "instance_class", None) is TruncatedMapArrays
 
 
 def truncated(lm):  # type: ignore[no-untyped-def]
