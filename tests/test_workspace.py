@@ -327,12 +327,12 @@ def test_a_regions_truncated_map_survives_files_checkpoints_and_resume(tmp_path:
     """A region's map is truncated (cutoff 4); a result file and a checkpoint keep it, bit for bit."""
     from gb_pin.runs.scaling import REGION_CUTOFF
 
-    class Crash(Exception):
+    class CrashError(Exception):
         pass
 
     def crash(r: int) -> None:
         if r >= 25:
-            raise Crash
+            raise CrashError
 
     full = gb_pin.babble("so101", movements=40, seed=2, targets="workspace")
     assert full.config.cutoff == REGION_CUTOFF and full.model.cutoff == REGION_CUTOFF
@@ -341,7 +341,7 @@ def test_a_regions_truncated_map_survives_files_checkpoints_and_resume(tmp_path:
     assert loaded.config.cutoff == REGION_CUTOFF
     probes = full.targets[:50]
     np.testing.assert_array_equal(loaded.inverse(probes), full.inverse(probes))
-    with pytest.raises(Crash):
+    with pytest.raises(CrashError):
         gb_pin.babble(
             "so101", movements=40, seed=2, targets="workspace",
             checkpoint=str(tmp_path / "c.ckpt"), checkpoint_every=10, callback=crash,

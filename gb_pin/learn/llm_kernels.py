@@ -76,7 +76,7 @@ class MapArrays(NamedTuple):
 
 
 class TruncatedMapArrays(NamedTuple):
-    """:class:`MapArrays` of a truncated map: the same storage, its cutoff and the list of the prototypes near x.
+    """:class:`MapArrays` of a truncated map: the same storage, its cutoff, the list of prototypes near x.
 
     A type of its own, so that the kernels compile the truncated sums for it only (:func:`truncated`
     is a constant of the type): an untruncated map, every preset's, runs the code it ran before.
@@ -126,7 +126,7 @@ def _listed_overload(lm, K):  # type: ignore[no-untyped-def]
 
 
 def prototype(lm, t):  # type: ignore[no-untyped-def]
-    """The index k of the t-th prototype of the last prediction's sums: t, or ``nearby[1 + t]`` if truncated."""
+    """The index k of the t-th prototype of the last prediction's sums: t, or ``nearby[1 + t]``."""
     return int(lm.nearby[1 + t]) if isinstance(lm, TruncatedMapArrays) else t
 
 
@@ -378,7 +378,7 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
 
 
 def update_block(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
-    """The gradient step's update of one block of outputs (compiled code): every prototype, or those listed."""
+    """The gradient step's update of one block of outputs (compiled code): all prototypes, or those listed."""
     raise NotImplementedError("compiled code only")
 
 
