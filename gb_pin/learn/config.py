@@ -1,8 +1,8 @@
 """The learner's hyperparameters, defined once (paper Secs. II-III).
 
 :data:`HYPERPARAMETERS` is the single table of the seven hyperparameters (the paper's six and the
-map's cutoff): names (the paper's
-meaning), symbols, defaults, validation and help texts. Everything else derives from it:
+map's cutoff, which is not the paper's): names (the paper's meaning), symbols, defaults, validation
+and help texts. Everything else derives from it:
 :class:`BabbleConfig`, :class:`~gb_pin.learn.learner.GoalBabbling`'s defaults, ``babble()``'s
 keyword arguments, the CLI options (``--learning-rate`` ...), the preset overrides of
 ``robots/*.toml`` (``[learner]`` tables) and the trial and sweep arguments.
