@@ -231,16 +231,23 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     # sum_k b_k (o_k + W_k u_k) and sum_k b_k (the ones after o_k), a block of eight outputs at a time.
     total = 0.0
     for block in range(M.shape[2] // LANES):
-        sums = block_sum(M, U, act, K, block)
-        for r in range(LANES):
-            i = LANES * block + r
-            if i < m:
-                out[i] = sums[r]
-            elif i == m:
-                total = sums[r]
+        total = _outputs(block_sum(M, U, act, K, block), block, out, total)
     for i in range(m):
         out[i] /= total
     return total, nearest
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _outputs(sums, block, out, total):  # type: ignore[no-untyped-def]
+    """A block's LANES sums into ``out`` (outputs below m); the sum of the activations (lane m) returned."""
+    m = out.shape[0]
+    for r in range(LANES):
+        i = LANES * block + r
+        if i < m:
+            out[i] = sums[r]
+        elif i == m:
+            total = sums[r]
+    return total
 
 
 def truncated_sums(lm, K, nearest, out):  # type: ignore[no-untyped-def]
@@ -280,13 +287,7 @@ def _truncated_sums(lm, K, nearest, out):  # type: ignore[no-untyped-def]
     m = out.shape[0]
     total = 0.0
     for block in range(lm.models.shape[2] // LANES):
-        sums = block_sum_near(lm.models, lm.inputs, act, near, block)
-        for r in range(LANES):
-            i = LANES * block + r
-            if i < m:
-                out[i] = sums[r]
-            elif i == m:
-                total = sums[r]
+        total = _outputs(block_sum_near(lm.models, lm.inputs, act, near, block), block, out, total)
     for i in range(m):
         out[i] /= total
     return total
