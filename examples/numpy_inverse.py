@@ -19,6 +19,7 @@ def load_inverse(path):  # type: ignore[no-untyped-def]
     """g(X) of an exported inverse: a function from (N, n) or (n,) targets to (N, m) or (m,) postures."""
     with np.load(path, allow_pickle=False) as f:
         P, W, o, d = f["prototypes"], f["matrices"], f["offsets"], float(f["radius"])
+        c2 = float(f["cutoff"]) if "cutoff" in f else np.inf  # a truncated map's c^2 (older files: none)
 
     def inverse(X):  # type: ignore[no-untyped-def]
         X = np.asarray(X, dtype=float)
@@ -26,7 +27,8 @@ def load_inverse(path):  # type: ignore[no-untyped-def]
         X = np.atleast_2d(X)
         U = (X[:, None, :] - P[None, :, :]) / d  # (N, K, n): u_k = (x - p_k) / d
         sq = np.einsum("nkj,nkj->nk", U, U)  # ||u_k||^2
-        b = np.exp(sq.min(axis=1, keepdims=True) - sq)  # b_k, shifted by the nearest (no underflow)
+        near = sq.min(axis=1, keepdims=True)
+        b = np.where(sq <= near + c2, np.exp(near - sq), 0.0)  # b_k, shifted by the nearest (no underflow)
         Y = o[None] + np.einsum("kij,nkj->nki", W, U)  # o_k + W_k u_k
         g = np.einsum("nk,nki->ni", b, Y) / b.sum(axis=1, keepdims=True)
         return g[0] if single else g

@@ -118,7 +118,18 @@ def main() -> int:
     a.add_argument("--reply-timeout", type=float, default=0.01, help="the host's reply timeout [s]")
     a.add_argument("--check-stale", action="store_true", help="compare every reading with the emulator's")
     a.add_argument("--out", default=None)
+    a.add_argument("--overwrite", "--force", action="store_true", help="let --out replace an existing file")
     args = a.parse_args()
+    if args.out is not None:
+        from gb_pin._files import check_writable
+        from gb_pin.cli.checks import no_clobber
+        from gb_pin.exceptions import GbPinError
+
+        try:  # before any work: another study's file is never replaced by accident
+            check_writable(args.out, "--out")
+            no_clobber(args.out, "--out", args.overwrite)
+        except GbPinError as exc:
+            a.exit(2, f"feetech_bus_study.py: error: {exc}\n")
     rows = [one_arm(seed, args) for seed in args.arms]
     for r in rows:
         ratio = r["urdf_mm"] / r["learned_mm"]

@@ -12,6 +12,7 @@ only on purpose (a change of behaviour an issue asks for), and say why in the co
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import Any
 
@@ -97,7 +98,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="tests/data/fingerprint.npz")
     parser.add_argument("--check", action="store_true", help="compare with --out instead of writing")
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace an existing --out: regenerate on purpose only"
+    )
     args = parser.parse_args(argv)
+    if not args.check and os.path.exists(args.out) and not args.overwrite:
+        parser.exit(
+            2, f"fingerprint.py: {args.out} exists: --check compares with it, --overwrite replaces it\n"
+        )
     now = fingerprint()
     if args.check:
         with np.load(args.out, allow_pickle=False) as f:

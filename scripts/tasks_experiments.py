@@ -201,7 +201,20 @@ def main() -> None:
     parser.add_argument("--out", default="tasks.json")
     parser.add_argument("--figures", default=None)
     parser.add_argument("--replot", default=None, help="draw the figures of this JSON file, run nothing")
+    parser.add_argument(
+        "--overwrite", "--force", action="store_true", help="let --out replace an existing file"
+    )
     args = parser.parse_args()
+    if not args.replot and args.out is not None:
+        from gb_pin._files import check_writable
+        from gb_pin.cli.checks import no_clobber
+        from gb_pin.exceptions import GbPinError
+
+        try:  # before any work: another study's file is never replaced by accident
+            check_writable(args.out, "--out")
+            no_clobber(args.out, "--out", args.overwrite)
+        except GbPinError as exc:
+            parser.exit(2, f"tasks_experiments.py: error: {exc}\n")
     if args.replot:
         with open(args.replot, encoding="utf-8") as f:
             figures(json.load(f)["runs"], args.figures or ".")

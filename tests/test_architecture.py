@@ -291,7 +291,7 @@ def test_hyperparameters_have_one_source_of_truth() -> None:
     from gb_pin.learn.learner import GoalBabbling
     from gb_pin.runs.api import babble
 
-    assert NAMES == ("learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home")
+    assert NAMES == ("learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home", "cutoff")
     assert tuple(f for f in BabbleConfig.__dataclass_fields__) == NAMES
     sig = inspect.signature(GoalBabbling)
     assert tuple(sig.parameters) == NAMES
@@ -301,7 +301,7 @@ def test_hyperparameters_have_one_source_of_truth() -> None:
     assert tuple(BABBLE_ARGS) == NAMES
     assert GoalBabbling().get_params() == {h.name: h.default for h in HYPERPARAMETERS}
     resolved = BabbleConfig.resolve(5)
-    assert resolved == BabbleConfig(0.1, 0.05, 0.1 * 0.05, 0.1, 25, 0.1)
+    assert resolved == BabbleConfig(0.1, 0.05, 0.1 * 0.05, 0.1, 25, 0.1, None)
     help_text = _run("from gb_pin.cli import main; main(['babble', '--help'])")
     for h in HYPERPARAMETERS:
         assert h.option in help_text

@@ -342,6 +342,7 @@ def test_init_only_stores_hyperparameters() -> None:
         "radius": 0.1,
         "path_length": 25,
         "p_home": 0.3,
+        "cutoff": None,
     }
     assert not [name for name in vars(learner) if name.endswith("_")]
 

@@ -160,3 +160,48 @@ def test_camera_pose_axes_and_projection() -> None:
     assert np.isclose(pose.focal, 240 / np.tan(np.radians(22.5)))
     moved = pose.moved([0.01, 0, 0], np.eye(3))
     assert np.allclose(moved.to_camera([0.0, 0.0, 0.2]), [-0.01, 0, 0.5])
+
+
+def _watched() -> WatchedRobot:
+    plant = MujocoPlant("so101", kp=10.0, camera="side", seed=4, period=0.02)
+    tracker = ArucoTracker(plant.camera.intrinsics(), 0.025, marker_id=7)
+    targets = plant.true_marker(solve(plant.target, plant.target.targets[::16], seed="home").postures)
+    return WatchedRobot(plant, CameraSensor(plant, tracker), targets)
+
+
+def test_a_watched_robots_checkpoint_resumes_with_the_pictures_it_would_have_taken(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Stopped after 2 of 4 movements and resumed on a fresh plant and camera: the run without the stop.
+
+    The checkpoint holds the plant's physics, its camera's pixel noise and the sensor's counts.
+    """
+    import gb_pin
+    from gb_pin.exceptions import ResultFileError
+    from gb_pin.runs.session import resume_session
+
+    def drive(session, robot, stop=None):  # type: ignore[no-untyped-def]
+        while not session.done and (stop is None or session.movements < stop):
+            session.tell(robot.forward(session.ask()))
+
+    whole_robot = _watched()
+    whole = gb_pin.babble_session(whole_robot, movements=4, seed=1)
+    drive(whole, whole_robot)
+    first = _watched()
+    path = tmp_path / "watched.ckpt"
+    part = gb_pin.babble_session(first, movements=4, seed=1, checkpoint=path, checkpoint_every=2)
+    drive(part, first, stop=3)
+    part.close()
+    fresh = _watched()
+    again = resume_session(path, robot=fresh)
+    assert again.movements == 2
+    drive(again, fresh)
+    a, b = whole.result(), again.result()
+    np.testing.assert_array_equal(a.history.error, b.history.error)
+    np.testing.assert_array_equal(a.model.predict(a.targets), b.model.predict(b.targets))
+    assert fresh.robot.camera.frames == whole_robot.robot.camera.frames  # the same pictures, counted
+    assert fresh.camera_sensor.reads == whole_robot.camera_sensor.reads
+    other = _watched()
+    other.robot = gb_pin.FunctionTarget(
+        lambda q: np.zeros(3), other.home, lower=other.lower, upper=other.upper
+    )
+    with pytest.raises(ResultFileError, match="not written by a robot like"):
+        resume_session(path, robot=other)

@@ -138,8 +138,8 @@ def test_exported_inverse_read_with_numpy_alone_predicts_as_result_inverse(tmp_p
     spec.loader.exec_module(reader)
     source = example.read_text()
     assert "import gb_pin" not in source and "numba" not in source.split('"""')[2]
-    for robot in ("planar5", "talos_left_arm_pose"):
-        result = gb_pin.babble(robot, movements=200, seed=1)
+    for robot, targets in (("planar5", None), ("talos_left_arm_pose", None), ("so101", "workspace")):
+        result = gb_pin.babble(robot, movements=200, seed=1, targets=targets)  # so101: a truncated map
         path = result.export_inverse(tmp_path / f"{robot}.npz")
         inverse = reader.load_inverse(path)
         X = np.vstack([result.targets, result.targets[:3] + 0.01])
@@ -231,6 +231,24 @@ def test_robots_md_results_table_has_every_preset() -> None:
         names = ["planar5", "planar20"] if name == "planarN" else [name]
         for n in names:
             assert rows.get(n) == axes, f"docs/ROBOTS.md's results table: {n} {rows.get(n)!r}, not {axes}"
+
+
+def test_checkpoint_of_another_run_is_never_clobbered(tmp_path: Path, capsys: Any) -> None:
+    """A new run given an existing --checkpoint refuses before any work (--resume continues it)."""
+    ckpt = tmp_path / "run.ckpt"
+    args = ["babble", "--robot", "planar5", "--movements", "20", "--quiet", "--checkpoint", str(ckpt)]
+    assert main(args) == 0
+    before = ckpt.read_bytes()
+    capsys.readouterr()
+    assert main([*args[:4], "10", *args[5:]]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(ckpt) in err and "--resume" in err and "--overwrite" in err
+    assert ckpt.read_bytes() == before
+    assert main(["babble", "--resume", str(ckpt), "--quiet"]) == 0  # what the line offers works
+    assert main([*args[:4], "10", *args[5:], "--overwrite"]) == 0
+    from gb_pin.runs.checkpoint import read_checkpoint
+
+    assert read_checkpoint(ckpt)[1].movements == 10
 
 
 def _refuses(argv: list[str], existing: Path, capsys: Any) -> None:

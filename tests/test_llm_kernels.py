@@ -28,8 +28,9 @@ def exp(x: float) -> float:
 class LoopMap:
     """g, insertion and the gradient step of Sec. II-C as per-prototype Python loops, documented order."""
 
-    def __init__(self, x0: list[float], q0: list[float], d: float) -> None:
+    def __init__(self, x0: list[float], q0: list[float], d: float, cutoff: float | None = None) -> None:
         self.d, self.inv = d, 1.0 / d
+        self.c2 = math.inf if cutoff is None else cutoff * cutoff  # prototypes farther are left out
         self.P, self.O = [list(x0)], [list(q0)]
         self.W = [[[0.0] * len(x0) for _ in q0]]
 
@@ -46,6 +47,9 @@ class LoopMap:
         smallest = min(sq)
         act, total, out = [], 0.0, [0.0] * m
         for k in range(K):
+            if not sq[k] <= smallest + self.c2:
+                act.append(0.0)  # left out of every sum
+                continue
             a = exp(smallest - sq[k])
             act.append(a)
             total += a
@@ -63,6 +67,8 @@ class LoopMap:
         if smallest >= 1.0:
             J = [[0.0] * n for _ in range(m)]
             for k in range(len(self.P)):
+                if act[k] == 0.0:
+                    continue
                 beta = act[k] / total
                 y = []
                 for i in range(m):
@@ -83,6 +89,8 @@ class LoopMap:
         e = [q[i] - g[i] for i in range(m)]
         scale = eta * w / total
         for k in range(len(self.P)):
+            if act[k] == 0.0:
+                continue
             c = scale * act[k]
             for i in range(m):
                 ce = c * e[i]
@@ -91,15 +99,20 @@ class LoopMap:
                     self.W[k][i][j] += ce * ((x[j] - self.P[k][j]) * self.inv)
 
 
+@pytest.mark.parametrize("cutoff", [None, 1.5])
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6])
 @pytest.mark.parametrize("m", [1, 3, 4, 7, 8, 9, 20])
-def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int) -> None:
-    """partial_fit (insertions, zero weights included) and predict give the loops' numbers exactly."""
+def test_passes_equal_per_prototype_loops_bit_for_bit(n: int, m: int, cutoff: float | None) -> None:
+    """partial_fit (insertions, zero weights included) and predict give the loops' numbers exactly.
+
+    With a cutoff the loops leave out the prototypes beyond it; the kernels' list of the others
+    (branch-free, in increasing k) gives the same sums in the same order.
+    """
     rng = np.random.default_rng(10 * n + m)
     d, eta = 0.1, 0.4
     x0, q0 = rng.uniform(-1, 1, n), rng.normal(size=m)
-    fast = LocalLinearMap(radius=d, learning_rate=eta).initialize(x0, q0, capacity=2)  # grows on the way
-    slow = LoopMap(x0.tolist(), q0.tolist(), d)
+    fast = LocalLinearMap(radius=d, learning_rate=eta, cutoff=cutoff).initialize(x0, q0, capacity=2)
+    slow = LoopMap(x0.tolist(), q0.tolist(), d, cutoff)
     X = rng.uniform(-1, 1, (30, n))
     Q = rng.normal(size=(30, m))
     w = rng.uniform(0, 1, 30)
@@ -158,3 +171,44 @@ def test_stored_arrays_are_copies_whatever_their_shape(n: int, m: int) -> None:
     for a in arrays.values():
         a[...] = 7.0
     np.testing.assert_array_equal(fast.predict(X, warn=False), before)
+
+
+def test_cutoff_beyond_every_prototype_changes_no_number() -> None:
+    """A cutoff no prototype lies beyond gives the untruncated map's numbers bit for bit (the same sums)."""
+    rng = np.random.default_rng(5)
+    X, Q = rng.uniform(-0.3, 0.3, (400, 3)), rng.normal(size=(400, 6))
+    maps = [LocalLinearMap(0.05, 0.3, cutoff=c).initialize(X[0], Q[0]) for c in (None, 26.0)]
+    for lm in maps:
+        lm.partial_fit(X, Q)
+    probes = rng.uniform(-0.3, 0.3, (50, 3))
+    np.testing.assert_array_equal(maps[0].predict(probes, warn=False), maps[1].predict(probes, warn=False))
+    np.testing.assert_array_equal(maps[0].jacobian(probes[0]), maps[1].jacobian(probes[0]))
+
+
+def test_cutoff_four_stays_within_its_bound_and_leaves_g_unchanged_on_insertion() -> None:
+    """c = 4: g within exp(-16) K of the whole map's (the left-out share); insertion keeps g and dg/dx."""
+    rng = np.random.default_rng(6)
+    X, Q = rng.uniform(-0.4, 0.4, (3000, 3)), rng.normal(size=(3000, 5))
+    whole = LocalLinearMap(0.04, 0.3).initialize(X[0], Q[0])
+    whole.partial_fit(X, Q)
+    cut = LocalLinearMap.from_arrays(whole.to_arrays(), 0.04, 0.3, cutoff=4.0)
+    assert whole.n_prototypes_ > 500
+    probes = rng.uniform(-0.4, 0.4, (200, 3))
+    scale = np.abs(whole.offsets_).max() + 0.8 * np.abs(whole.matrices_).sum(axis=2).max()
+    bound = math.exp(-16.0) * whole.n_prototypes_ * 2 * scale
+    diff = np.abs(cut.predict(probes, warn=False) - whole.predict(probes, warn=False)).max()
+    assert diff <= bound, (diff, bound)
+    x = np.array([0.55, 0.0, 0.0])  # beyond every prototype: inserted
+    before, J = cut.predict(x, warn=False), cut.jacobian(x)
+    cut.partial_fit(x[None], before[None], np.zeros(1))
+    np.testing.assert_allclose(cut.predict(x, warn=False), before, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(cut.jacobian(x), J, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, 27.0, float("nan"), float("inf"), "4"])
+def test_bad_cutoff_is_one_clear_error(bad: object) -> None:
+    """The cutoff is in radii, in (0, 26], or None."""
+    from gb_pin.exceptions import InvalidArgumentError
+
+    with pytest.raises(InvalidArgumentError, match="cutoff"):
+        LocalLinearMap(0.1, cutoff=bad).initialize(np.zeros(2), np.zeros(2))  # type: ignore[arg-type]

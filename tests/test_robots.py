@@ -253,7 +253,8 @@ def test_malformed_presets_raise(change: tuple[str, str], message: str) -> None:
 
 def test_preset_learner_keys_are_the_hyperparameter_table() -> None:
     """[learner] tables take exactly the names of gb_pin.learn.config.NAMES; values come back validated."""
-    table = "\n".join(f"{k} = {v}" for k, v in zip(NAMES, (0.2, 0.01, 0.001, 0.05, 30, 0.2), strict=True))
+    values = (0.2, 0.01, 0.001, 0.05, 30, 0.2, 4.0)
+    table = "\n".join(f"{k} = {v}" for k, v in zip(NAMES, values, strict=True))
     text = URDF_PRESET.format(urdf=DATA / "small_arm.urdf", srdf=DATA / "small_arm.srdf")
     preset = _read_preset(text.replace("radius = 0.05", table), "all.toml")
     assert list(preset.learner) == list(NAMES)

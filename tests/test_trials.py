@@ -272,7 +272,15 @@ def test_babble_args_are_the_hyperparameter_table() -> None:
     from gb_pin.learn.config import NAMES
 
     assert trials.BABBLE_ARGS == NAMES
-    assert set(NAMES) == {"learning_rate", "sigma", "sigma_delta", "radius", "path_length", "p_home"}
+    assert set(NAMES) == {
+        "learning_rate",
+        "sigma",
+        "sigma_delta",
+        "radius",
+        "path_length",
+        "p_home",
+        "cutoff",
+    }
     for name in (
         "run_trials",
         "run_sweep",

@@ -321,3 +321,35 @@ def test_a_region_in_parts_learns_saves_and_answers_through_the_normal_api(tmp_p
         gb_pin.babble_session("panda", movements=5, targets=spec)
     assert main(["babble", "--robot", "panda", "--movements", "40", "--targets", spec]) == 0
     assert "test points      median" in capsys.readouterr().out
+
+
+def test_a_regions_truncated_map_survives_files_checkpoints_and_resume(tmp_path: Path) -> None:
+    """A region's map is truncated (cutoff 4); a result file and a checkpoint keep it, bit for bit."""
+    from gb_pin.runs.scaling import REGION_CUTOFF
+
+    class CrashError(Exception):
+        pass
+
+    def crash(r: int) -> None:
+        if r >= 25:
+            raise CrashError
+
+    full = gb_pin.babble("so101", movements=40, seed=2, targets="workspace")
+    assert full.config.cutoff == REGION_CUTOFF and full.model.cutoff == REGION_CUTOFF
+    full.save(tmp_path / "run.npz")
+    loaded = gb_pin.load_result(tmp_path / "run.npz")
+    assert loaded.config.cutoff == REGION_CUTOFF
+    probes = full.targets[:50]
+    np.testing.assert_array_equal(loaded.inverse(probes), full.inverse(probes))
+    with pytest.raises(CrashError):
+        gb_pin.babble(
+            "so101", movements=40, seed=2, targets="workspace",
+            checkpoint=str(tmp_path / "c.ckpt"), checkpoint_every=10, callback=crash,
+        )  # fmt: skip
+    resumed = gb_pin.resume(tmp_path / "c.ckpt")
+    assert resumed.config.cutoff == REGION_CUTOFF
+    np.testing.assert_array_equal(resumed.history.error, full.history.error)
+    np.testing.assert_array_equal(resumed.inverse(probes), full.inverse(probes))
+    uncut = gb_pin.babble("so101", movements=40, seed=2, targets="workspace", cutoff=26.0)
+    assert uncut.n_prototypes == full.n_prototypes  # the same run but for the sums' last digits
+    np.testing.assert_allclose(uncut.inverse(probes), full.inverse(probes), rtol=0, atol=1e-6)

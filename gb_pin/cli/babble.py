@@ -426,10 +426,19 @@ def _print_summary(
     reach = result.history.reach
     watched = getattr(args, "plant", None) or getattr(args, "sensor", None) or result.missing
     if watched and reach is not None and reach.size and math.isfinite(float(reach[-1])):
-        print(
-            f"reach (observed) {reach[-1]:.5f} m   median miss of the last goal movements, "
-            "less the noise's share"
-        )
+        import numpy as np
+
+        extent = float(np.linalg.norm(np.ptp(np.asarray(result.targets), axis=0)))
+        if float(reach[-1]) <= extent:
+            print(
+                f"reach (observed) {reach[-1]:.5f} m   median miss of the last goal movements, "
+                "less the noise's share"
+            )
+        else:  # the noise's share is estimated with the learned Jacobian: meaningless before it is learnt
+            print(
+                f"reach (observed) not yet meaningful: {reach[-1]:.3g} m, more than the goal set's "
+                f"extent ({extent:.3g} m), after {result.movements} movements (its Jacobian is young)"
+            )
     steps_before, wall_before = before
     steps = result.steps - steps_before
     per_step = f"{1e6 * (result.wall_time - wall_before) / steps:.2f} us/step" if steps > 0 else "no steps"

@@ -100,6 +100,16 @@ def babble(args: argparse.Namespace) -> None:
     finite("--view-pace", args.view_pace, strict=True)
     outputs(args, out="--out", checkpoint="--checkpoint")
     no_clobber(args.out, "--out", getattr(args, "overwrite", False))
+    if (
+        args.checkpoint is not None
+        and not getattr(args, "overwrite", False)
+        and os.path.lexists(args.checkpoint)
+    ):
+        raise InvalidArgumentError(  # another run's checkpoint: the run it holds is not lost
+            f"--checkpoint {args.checkpoint}: the file exists (another run's checkpoint?); --resume "
+            f"{args.checkpoint} continues its run, --overwrite starts this one over it, "
+            "or give another --checkpoint"
+        )
 
 
 def directory(path: Any, option: str) -> None:

@@ -411,7 +411,7 @@ def run_trials(
         checkpoint: a trial journal file; finished trials in it are not recomputed
             (see :class:`~gb_pin.experiments.journal.TrialJournal`).
         **babble_args: the hyperparameters of :data:`gb_pin.learn.config.NAMES`
-            (learning_rate, sigma, sigma_delta, radius, path_length, p_home), goals, targets,
+            (learning_rate, sigma, sigma_delta, radius, path_length, p_home, cutoff), goals, targets,
             eval_targets, and safe babbling's obstacles, self_collision, collision_geometry, clearance.
 
     Returns:

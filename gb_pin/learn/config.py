@@ -1,7 +1,8 @@
 """The learner's hyperparameters, defined once (paper Secs. II-III).
 
-:data:`HYPERPARAMETERS` is the single table of the six hyperparameters: names (the paper's
-meaning), symbols, defaults, validation and help texts. Everything else derives from it:
+:data:`HYPERPARAMETERS` is the single table of the seven hyperparameters (the paper's six and the
+map's cutoff, which is not the paper's): names (the paper's meaning), symbols, defaults, validation
+and help texts. Everything else derives from it:
 :class:`BabbleConfig`, :class:`~gb_pin.learn.learner.GoalBabbling`'s defaults, ``babble()``'s
 keyword arguments, the CLI options (``--learning-rate`` ...), the preset overrides of
 ``robots/*.toml`` (``[learner]`` tables) and the trial and sweep arguments.
@@ -57,6 +58,16 @@ class Hyperparameter:
         return self.validate(self.name, value)
 
 
+def _cutoff(name: str, value: Any) -> float | None:
+    """None (no truncation) or a cutoff in radii, in (0, 26]."""
+    if value is None:
+        return None
+    c = check.positive_float(name, value)
+    if c > 26.0:
+        raise InvalidArgumentError(f"{name} is in radii, at most 26 (or none), got {value!r}")
+    return c
+
+
 MAX_PATH_LENGTH = 10**6
 """The longest movement (path_length, L) accepted: the paper uses 25."""
 
@@ -85,6 +96,11 @@ HYPERPARAMETERS: tuple[Hyperparameter, ...] = (
         "p_home", "p_home", 0.1, float, check.probability,
         "probability of a home return after a goal-directed movement (Eq. 7)",
     ),
+    Hyperparameter(
+        "cutoff", "c", None, float, _cutoff,
+        "c, prototypes below exp(-c^2) of the nearest one's activation left out of g [radii]; "
+        "default: none (the paper's sums; a workspace region: 4)",
+    ),
 )  # fmt: skip
 
 BY_NAME: dict[str, Hyperparameter] = {h.name: h for h in HYPERPARAMETERS}
@@ -110,6 +126,8 @@ class BabbleConfig:
         radius: radius d of the local-linear map's prototypes [m].
         path_length: L, steps per movement (Eq. 3).
         p_home: probability of a home return after a goal-directed movement (Eq. 7).
+        cutoff: c [radii]: the map's sums leave out prototypes whose activation is below
+            exp(-c^2) of the nearest one's (:class:`~gb_pin.learn.llm.LocalLinearMap`); None: all.
     """
 
     learning_rate: float = BY_NAME["learning_rate"].default  # type: ignore[assignment]
@@ -118,6 +136,7 @@ class BabbleConfig:
     radius: float = BY_NAME["radius"].default  # type: ignore[assignment]
     path_length: int = BY_NAME["path_length"].default  # type: ignore[assignment]
     p_home: float = BY_NAME["p_home"].default  # type: ignore[assignment]
+    cutoff: float | None = None
 
     def __post_init__(self) -> None:
         # Store plain Python floats/ints (numpy scalars would break the JSON of files).

@@ -37,6 +37,7 @@ class GoalBabbling:
         radius: d [m].
         path_length: L (Eq. 3).
         p_home: home-return probability (Eq. 7).
+        cutoff: c [radii] of the map's truncated sums; None: every prototype.
 
     Attributes:
         state_: the :class:`~gb_pin.learn.state.BabbleState` of the run (resumable with :meth:`resume`).
@@ -56,6 +57,7 @@ class GoalBabbling:
         radius: float = _D["radius"],  # type: ignore[assignment]
         path_length: int = _D["path_length"],  # type: ignore[assignment]
         p_home: float = _D["p_home"],  # type: ignore[assignment]
+        cutoff: float | None = _D["cutoff"],
     ) -> None:
         self.learning_rate = learning_rate
         self.sigma = sigma
@@ -63,6 +65,7 @@ class GoalBabbling:
         self.radius = radius
         self.path_length = path_length
         self.p_home = p_home
+        self.cutoff = cutoff
 
     def get_params(self, deep: bool = True) -> dict[str, Any]:
         """The hyperparameters as given (scikit-learn convention)."""

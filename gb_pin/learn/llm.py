@@ -3,6 +3,8 @@
     g(x) = sum_k beta_k(x) (W_k u_k + o_k),   u_k = (x - p_k) / d,
     beta_k(x) = b(u_k) / sum_j b(u_j),         b(u) = exp(-||u||^2).
 
+With a ``cutoff`` c (not the paper's; None by default) the sums run over the prototypes with
+||u_k||^2 <= min_j ||u_j||^2 + c^2 only: each one left out weighs less than exp(-c^2) of the nearest.
 The compiled kernels and the conventions where the paper is silent are in
 :mod:`gb_pin.learn.llm_kernels`; this class owns the preallocated storage.
 """
@@ -18,7 +20,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
 from gb_pin.exceptions import ExtrapolationWarning, InvalidArgumentError, NotFittedError
-from gb_pin.learn.llm_kernels import MapArrays, Scratch, llm_jacobian, llm_learn, llm_predict_many
+from gb_pin.learn.llm_kernels import (
+    MapArrays,
+    Scratch,
+    TruncatedMapArrays,
+    llm_jacobian,
+    llm_learn,
+    llm_predict_many,
+)
 from gb_pin.learn.llm_simd import LANES
 
 
@@ -32,6 +41,26 @@ def _row(capacity: int) -> int:
     (:func:`_zeros`).
     """
     return 8 * -(-capacity // 8) + 8
+
+
+MAX_CUTOFF = 26.0
+"""The largest cutoff c [radii]: exp(-c^2) is then below what the map's exponential resolves."""
+
+
+def cutoff_squared(cutoff: float | None) -> float:
+    """c^2 for the kernels (:class:`~gb_pin.learn.llm_kernels.MapArrays`): inf for None (no truncation).
+
+    Raises:
+        InvalidArgumentError: not a number in (0, :data:`MAX_CUTOFF`].
+    """
+    if cutoff is None:
+        return float("inf")
+    c = check.positive_float("cutoff", cutoff)
+    if c > MAX_CUTOFF:
+        raise InvalidArgumentError(
+            f"cutoff is in radii, at most {MAX_CUTOFF:g} (or None: no cutoff), got {cutoff!r}"
+        )
+    return c * c
 
 
 def memory_bytes() -> int:
@@ -94,6 +123,9 @@ class LocalLinearMap:
     Args:
         radius: radius d of the prototypes' Gaussian responsibilities [m].
         learning_rate: eta of the online gradient descent.
+        cutoff: c [radii]: prototypes whose activation is below exp(-c^2) of the nearest one's
+            are left out of g(x), its Jacobian and the update (``||u_k||^2 > min_j ||u_j||^2 +
+            c^2``); None: every prototype (the paper's sums).
 
     Attributes:
         prototypes_: (K, n) prototype centres p_k [m].
@@ -106,13 +138,14 @@ class LocalLinearMap:
     #: :meth:`predict` warns of queries farther than this many radii d from every prototype.
     FAR_RADII = 3.0
 
-    def __init__(self, radius: float = 0.1, learning_rate: float = 0.1) -> None:
+    def __init__(self, radius: float = 0.1, learning_rate: float = 0.1, cutoff: float | None = None) -> None:
         self.radius = radius
         self.learning_rate = learning_rate
+        self.cutoff = cutoff
 
     def get_params(self, deep: bool = True) -> dict[str, Any]:
         """The hyperparameters (scikit-learn convention)."""
-        return {"radius": self.radius, "learning_rate": self.learning_rate}
+        return {"radius": self.radius, "learning_rate": self.learning_rate, "cutoff": self.cutoff}
 
     # -- initialisation and storage -------------------------------------------
     def initialize(self, x0: ArrayLike, q0: ArrayLike, capacity: int = 256) -> LocalLinearMap:
@@ -122,6 +155,7 @@ class LocalLinearMap:
         """
         radius = check.positive_float("radius", self.radius)
         check.positive_float("learning_rate", self.learning_rate)
+        self._cutoff_sq = cutoff_squared(self.cutoff)
         x0 = check.vector("x0", x0, np.size(x0))
         q0 = check.vector("q0", q0, np.size(q0))
         if x0.size == 0 or q0.size == 0:
@@ -147,6 +181,7 @@ class LocalLinearMap:
         m = self._m
         self._U = _zeros((n + 1, row))
         self._act = _zeros((row,))
+        self._near = np.zeros(row + 1, dtype=np.int64)
         self._e = _zeros((self._M.shape[2],))
         self._g = np.empty(m)
         self._y = np.empty(m)
@@ -168,7 +203,11 @@ class LocalLinearMap:
     def kernel(self) -> MapArrays:
         """The storage and scratch buffers as the compiled kernels take them."""
         self._check_fitted()
-        return MapArrays(self._P, self._M, self._radius, self._act, self._U, self._e)
+        if self._cutoff_sq == float("inf"):
+            return MapArrays(self._P, self._M, self._radius, self._act, self._U, self._e)
+        return TruncatedMapArrays(  # type: ignore[return-value]  # the same storage and its list
+            self._P, self._M, self._radius, self._act, self._U, self._e, self._cutoff_sq, self._near
+        )
 
     def scratch(self) -> Scratch:
         """The buffers of learning steps and Jacobians."""
@@ -202,6 +241,7 @@ class LocalLinearMap:
         radius: float,
         learning_rate: float = 0.1,
         capacity: int | None = None,
+        cutoff: float | None = None,
     ) -> LocalLinearMap:
         """The map stored by :meth:`to_arrays`, exactly (same numbers, same predictions).
 
@@ -210,6 +250,7 @@ class LocalLinearMap:
             radius: d [m].
             learning_rate: eta for further :meth:`partial_fit` calls.
             capacity: storage to preallocate (default: the prototypes' count).
+            cutoff: c [radii] of the truncated sums (None: every prototype).
 
         Raises:
             InvalidArgumentError: missing, non-finite or inconsistent arrays.
@@ -227,7 +268,7 @@ class LocalLinearMap:
             raise InvalidArgumentError(f"model arrays of inconsistent shapes {P.shape}, {W.shape}, {O.shape}")
         if not all(np.all(np.isfinite(a)) for a in (P, W, O)):
             raise InvalidArgumentError("model arrays are not finite")
-        lm = cls(radius=radius, learning_rate=learning_rate)
+        lm = cls(radius=radius, learning_rate=learning_rate, cutoff=cutoff)
         lm.initialize(P[0], O[0], capacity=max(K, capacity or K))
         lm._P[:, :K] = P.T
         lm._M[:K, 1:, :m] = np.transpose(W, (0, 2, 1))

@@ -20,19 +20,30 @@ each prototype's numbers o_k, W_k stored together, eight outputs side by side in
 (:mod:`~gb_pin.learn.llm_simd`). Sums over j and over k keep their order, and the minimum is exact
 in any order: the numbers are those of plain per-prototype loops with that exp
 (tests/test_llm_kernels.py checks it bit for bit).
+
+A truncated map (``cutoff`` c, not the paper's: a workspace region's map of hundreds of prototypes)
+leaves out of the sums, the Jacobian and the update every prototype whose activation is below
+exp(-c^2) of the nearest one's: the distances are computed for all K, the rest only for the
+prototypes listed near x (:func:`_truncated_predict`), in increasing k, so that the numbers are those of
+the same per-prototype loops skipping the others (tested bit for bit). Without a cutoff (every
+preset's run) the code path is the one above: :func:`llm_predict` chooses at its first line, by a constant
+of the map's type, and the whole-sum code after it is as it was (measured: the same choice placed after
+the minimum, or the block sums' unpacking shared with the truncated path, made a prediction 2-6 % slower).
 :class:`~gb_pin.learn.llm.LocalLinearMap` wraps them with a scikit-learn style interface.
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 from numpy.typing import NDArray
 
 from gb_pin._jit import njit
-from gb_pin.learn.llm_simd import LANES, block_sum, block_update
+from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
 from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
 
@@ -66,6 +77,68 @@ class MapArrays(NamedTuple):
     errors: NDArray[np.float64]
 
 
+class TruncatedMapArrays(NamedTuple):
+    """:class:`MapArrays` of a truncated map: the same storage, its cutoff, the list of prototypes near x.
+
+    A type of its own, so that the kernels compile the truncated sums for it only (:func:`truncated`
+    is a constant of the type): an untruncated map, every preset's, runs the code it ran before.
+
+    Attributes:
+        cutoff: c^2 [radii^2]: prototypes with ||u_k||^2 > min_j ||u_j||^2 + c^2 are left out.
+        nearby: (capacity + 1,) scratch of a prediction: ``nearby[0]`` prototypes entered its
+            sums, their indices k in ``nearby[1:]`` (increasing); ``act[:nearby[0]]`` their
+            activations, in that order.
+    """
+
+    prototypes: NDArray[np.float64]
+    models: NDArray[np.float64]
+    radius: float
+    act: NDArray[np.float64]
+    inputs: NDArray[np.float64]
+    errors: NDArray[np.float64]
+    cutoff: float
+    nearby: NDArray[np.int64]
+
+
+def _is_truncated_type(lm: Any) -> bool:
+    return isinstance(lm, types.BaseNamedTuple) and getattr(lm, "instance_class", None) is TruncatedMapArrays
+
+
+def truncated(lm):  # type: ignore[no-untyped-def]
+    """Whether ``lm`` is a :class:`TruncatedMapArrays` (in compiled code: a constant of its type)."""
+    return isinstance(lm, TruncatedMapArrays)
+
+
+@overload(truncated, inline="always")
+def _truncated_overload(lm):  # type: ignore[no-untyped-def]
+    flag = _is_truncated_type(lm)
+    return lambda lm: flag
+
+
+def listed(lm, K):  # type: ignore[no-untyped-def]
+    """How many prototypes the last prediction's sums ran over: K, or ``nearby[0]`` if truncated."""
+    return int(lm.nearby[0]) if isinstance(lm, TruncatedMapArrays) else K
+
+
+@overload(listed, inline="always")
+def _listed_overload(lm, K):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda lm, K: lm.nearby[0]
+    return lambda lm, K: K
+
+
+def prototype(lm, t):  # type: ignore[no-untyped-def]
+    """The index k of the t-th prototype of the last prediction's sums: t, or ``nearby[1 + t]``."""
+    return int(lm.nearby[1 + t]) if isinstance(lm, TruncatedMapArrays) else t
+
+
+@overload(prototype, inline="always")
+def _prototype_overload(lm, t):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda lm, t: lm.nearby[1 + t]
+    return lambda lm, t: t
+
+
 class Scratch(NamedTuple):
     """Buffers of learning steps and Jacobians (kept apart so that predictions pass less).
 
@@ -91,6 +164,8 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     With two or three inputs, u_k and ||u_k||^2 are one expression per prototype: the same sums
     in the same order as the general loop over the inputs.
     """
+    if truncated(lm):  # a constant of lm's type: one of the two paths is compiled
+        return truncated_predict(x, lm, K, out)
     P, M, U, act = lm.prototypes, lm.models, lm.inputs, lm.act
     inv = 1.0 / lm.radius
     n = x.shape[0]
@@ -170,6 +245,106 @@ def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     return total, nearest
 
 
+def truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
+    """:func:`llm_predict` of a truncated map (compiled code; :func:`_truncated_predict`)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(truncated_predict)
+def _truncated_predict_overload(x, lm, K, out):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+        return lambda x, lm, K, out: _truncated_predict(x, lm, K, out)
+    return lambda x, lm, K, out: (0.0, 0.0)  # never called: the untruncated path
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
+    """g(x) into ``out`` over the prototypes near x only; returns (sum of their activations, nearest).
+
+    A truncated map leaves out of the sums every prototype whose activation is below exp(-c^2)
+    of the nearest one's, ||u_k||^2 > min_j ||u_j||^2 + c^2 (``lm.cutoff`` = c^2): their share
+    of g is at most exp(-c^2) each (c = 4: 1.1e-7), while a region's map of 800 prototypes has
+    about 110 within it (docs/WORKSPACE.md), so the exponentials, the sums and the update cost
+    K/7 of the whole map's. The list goes to ``lm.nearby`` in increasing k (the order of the
+    untruncated sums), their activations to ``lm.act[:count]`` in the list's order.
+    """
+    P, U, act, near = lm.prototypes, lm.inputs, lm.act, lm.nearby
+    inv = 1.0 / lm.radius
+    n = x.shape[0]
+    sq = U[n]  # ||u_k||^2 for every k; u_k itself only for the prototypes listed
+    # The same expressions as llm_predict's, without storing u_k: (u0^2 + u1^2) + u2^2, ...
+    if n == 3:
+        x0, x1, x2 = x[0], x[1], x[2]
+        for k in range(K):
+            u0 = (x0 - P[0, k]) * inv
+            u1 = (x1 - P[1, k]) * inv
+            u2 = (x2 - P[2, k]) * inv
+            sq[k] = (u0 * u0 + u1 * u1) + u2 * u2
+    elif n == 2:
+        x0, x1 = x[0], x[1]
+        for k in range(K):
+            u0 = (x0 - P[0, k]) * inv
+            u1 = (x1 - P[1, k]) * inv
+            sq[k] = u0 * u0 + u1 * u1
+    else:
+        for k in range(K):
+            sq[k] = 0.0
+        for j in range(n):
+            xj = x[j]
+            for k in range(K):
+                u = (xj - P[j, k]) * inv
+                sq[k] += u * u
+    nearest = _smallest(sq, K)
+    limit = nearest + lm.cutoff
+    count = 0
+    for k in range(K):  # without a branch: the prototypes near x lie scattered over k
+        near[count + 1] = k
+        count += sq[k] <= limit
+    near[0] = count
+    for t in range(count):
+        k = near[t + 1]
+        for j in range(n):
+            U[j, k] = (x[j] - P[j, k]) * inv
+    for t in range(count):  # the exponents gathered, then the exponentials in SIMD code
+        act[t] = nearest - sq[near[t + 1]]
+    for t in range(count):
+        act[t] = vexp(act[t])
+    m = out.shape[0]
+    total = 0.0
+    for block in range(lm.models.shape[2] // LANES):
+        sums = block_sum_near(lm.models, lm.inputs, act, near, block)
+        for r in range(LANES):
+            i = LANES * block + r
+            if i < m:
+                out[i] = sums[r]
+            elif i == m:
+                total = sums[r]
+    for i in range(m):
+        out[i] /= total
+    return total, nearest
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _smallest(sq, K):  # type: ignore[no-untyped-def]
+    """min_k sq[k] in four lanes (exact in any order; NaNs skipped): llm_predict's minimum."""
+    s0 = s1 = s2 = s3 = np.inf
+    k = 0
+    while k + 4 <= K:
+        a, b, c, d = sq[k], sq[k + 1], sq[k + 2], sq[k + 3]
+        s0 = a if a < s0 else s0
+        s1 = b if b < s1 else s1
+        s2 = c if c < s2 else s2
+        s3 = d if d < s3 else s3
+        k += 4
+    while k < K:
+        a = sq[k]
+        s0 = a if a < s0 else s0
+        k += 1
+    s0 = s1 if s1 < s0 else s0
+    s2 = s3 if s3 < s2 else s2
+    return s2 if s2 < s0 else s0
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     """dg/dx into ``scratch.J`` (m, n) and g(x) into ``scratch.g`` (m,), the responsibilities' derivative in.
@@ -191,8 +366,9 @@ def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-d
     for i in range(m):
         for j in range(n):
             J[i, j] = 0.0
-    for k in range(K):
-        beta = act[k] / total
+    for t in range(listed(lm, K)):  # K, or the prototypes near x of a truncated map
+        k = prototype(lm, t)
+        beta = act[t] / total  # in the order of the sums (t = k without a cutoff)
         for i in range(m):
             yi = M[k, 0, i]
             for j in range(n):
@@ -250,8 +426,28 @@ def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     scale = eta * w / total
     # c_k e = (scale b_k) e added to o_k and (c_k e) u_kj to column j of W_k, eight outputs at a time.
     for block in range(lm.models.shape[2] // LANES):
-        block_update(lm.models, lm.inputs, lm.act, K, block, e, scale, m - LANES * block)
+        update_block(lm, K, block, e, scale, m - LANES * block)
     return K
+
+
+def update_block(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+    """The gradient step's update of one block of outputs (compiled code): all prototypes, or those listed."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(update_block, inline="always")
+def _update_block_overload(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+    if _is_truncated_type(lm):
+
+        def near(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+            block_update_near(lm.models, lm.inputs, lm.act, lm.nearby, block, errors, scale, used)
+
+        return near
+
+    def whole(lm, K, block, errors, scale, used):  # type: ignore[no-untyped-def]
+        block_update(lm.models, lm.inputs, lm.act, K, block, errors, scale, used)
+
+    return whole
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

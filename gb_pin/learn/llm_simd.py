@@ -72,17 +72,50 @@ def block_sum(typingctx: Any, models: Any, inputs: Any, act: Any, K: Any, block:
     """
     _check(models, inputs, act)
     sig = types.UniTuple(types.float64, LANES)(models, inputs, act, types.intp, types.intp)
+    return sig, _sum_codegen(indexed=False)
 
+
+@intrinsic
+def block_sum_near(typingctx: Any, models: Any, inputs: Any, act: Any, nearby: Any, block: Any) -> Any:
+    """:func:`block_sum` over the prototypes listed in ``nearby`` only: k = nearby[1 + t], t < nearby[0].
+
+    The sums of a truncated map (:func:`~gb_pin.learn.llm_kernels.llm_predict` with a cutoff), in
+    the order of the list (increasing k).
+    """
+    _check(models, inputs, act)
+    _check_index(nearby)
+    sig = types.UniTuple(types.float64, LANES)(models, inputs, act, nearby, types.intp)
+    return sig, _sum_codegen(indexed=True)
+
+
+def _check_index(nearby: Any) -> None:
+    if not (isinstance(nearby, types.Array) and nearby.dtype == types.int64 and nearby.ndim == 1):
+        raise TypeError("llm_simd takes an int64 list of prototypes")
+
+
+def _loop_k(builder: ir.IRBuilder, context: Any, signature: Any, args: Any, indexed: bool) -> Any:
+    """The loop over the prototypes: k = 0..K-1 (args[3] = K), or k = nearby[1 + t] for t < nearby[0]."""
+    if not indexed:
+        count = args[3]
+        return count, lambda index: index
+    data = context.make_array(signature.args[3])(context, builder, args[3]).data
+    count = builder.load(data)
+    one = ir.Constant(count.type, 1)
+    return count, lambda index: builder.load(builder.gep(data, [builder.add(index, one)]))
+
+
+def _sum_codegen(indexed: bool) -> Any:
     def codegen(context: Any, builder: ir.IRBuilder, signature: Any, args: Any) -> Any:
         a = _Arrays(context, builder, signature, args)
-        count, blk = args[3], args[4]
+        blk = args[4]
+        count, k_of = _loop_k(builder, context, signature, args, indexed)
         offset = builder.mul(blk, ir.Constant(blk.type, LANES))
         total = cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * LANES))
 
         def body(inputs_n: int | None) -> None:
             # The loop over k; with a known input count n, the sum over j written out.
             with cgutils.for_range(builder, count) as loop_k:
-                k = loop_k.index
+                k = k_of(loop_k.index)
                 base = builder.add(builder.mul(k, a.stride), offset)
                 y = builder.load(_vector_at(builder, a.models, base), align=8)
                 for j in range(inputs_n or 0):
@@ -94,7 +127,7 @@ def block_sum(typingctx: Any, models: Any, inputs: Any, act: Any, K: Any, block:
                         step = _product(builder, a, base, loop_j.index, k)
                         builder.store(builder.fadd(builder.load(local), step), local)
                     y = builder.load(local)
-                b = builder.load(builder.gep(a.act, [k]))
+                b = builder.load(builder.gep(a.act, [loop_k.index]))  # act in the loop's order
                 builder.store(builder.fadd(builder.load(total), builder.fmul(_splat(builder, b), y)), total)
 
         _by_input_count(builder, a, body)
@@ -102,7 +135,7 @@ def block_sum(typingctx: Any, models: Any, inputs: Any, act: Any, K: Any, block:
         lanes = [builder.extract_element(result, ir.Constant(ir.IntType(32), r)) for r in range(LANES)]
         return context.make_tuple(builder, signature.return_type, lanes)
 
-    return sig, codegen
+    return codegen
 
 
 @intrinsic
@@ -119,10 +152,35 @@ def block_update(
     if not (isinstance(errors, types.Array) and errors.dtype == types.float64 and errors.ndim == 1):
         raise TypeError("llm_simd takes float64 errors")
     sig = types.void(models, inputs, act, types.intp, types.intp, errors, types.float64, types.intp)
+    return sig, _update_codegen(indexed=False)
 
+
+@intrinsic
+def block_update_near(
+    typingctx: Any,
+    models: Any,
+    inputs: Any,
+    act: Any,
+    nearby: Any,
+    block: Any,
+    errors: Any,
+    scale: Any,
+    used: Any,
+) -> Any:
+    """:func:`block_update` of the prototypes listed in ``nearby`` only (k = nearby[1 + t], t < nearby[0])."""
+    _check(models, inputs, act)
+    _check_index(nearby)
+    if not (isinstance(errors, types.Array) and errors.dtype == types.float64 and errors.ndim == 1):
+        raise TypeError("llm_simd takes float64 errors")
+    sig = types.void(models, inputs, act, nearby, types.intp, errors, types.float64, types.intp)
+    return sig, _update_codegen(indexed=True)
+
+
+def _update_codegen(indexed: bool) -> Any:
     def codegen(context: Any, builder: ir.IRBuilder, signature: Any, args: Any) -> Any:
         a = _Arrays(context, builder, signature, args)
-        count, blk, scale, used = args[3], args[4], args[6], args[7]
+        blk, scale, used = args[4], args[6], args[7]
+        count, k_of = _loop_k(builder, context, signature, args, indexed)
         errors_data = context.make_array(signature.args[5])(context, builder, args[5]).data
         offset = builder.mul(blk, ir.Constant(blk.type, LANES))
         e = builder.load(_vector_at(builder, errors_data, offset), align=8)
@@ -135,9 +193,9 @@ def block_update(
 
         def body(inputs_n: int | None) -> None:
             with cgutils.for_range(builder, count) as loop_k:
-                k = loop_k.index
+                k = k_of(loop_k.index)
                 base = builder.add(builder.mul(k, a.stride), offset)
-                c = builder.fmul(scale, builder.load(builder.gep(a.act, [k])))
+                c = builder.fmul(scale, builder.load(builder.gep(a.act, [loop_k.index])))
                 ce = builder.fmul(_splat(builder, c), e)
                 add(_vector_at(builder, a.models, base), ce)
                 for j in range(inputs_n or 0):
@@ -150,7 +208,7 @@ def block_update(
         _by_input_count(builder, a, body)
         return context.get_dummy_value()
 
-    return sig, codegen
+    return codegen
 
 
 def _column(builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value) -> ir.Value:

@@ -111,6 +111,7 @@ class PartedMap:
         self.sectors = Sectors.checked(sectors.origin, sectors.u, sectors.v, sectors.edges, maps[0].n_inputs_)
         self.radius = maps[0].radius
         self.learning_rate = maps[0].learning_rate
+        self.cutoff = maps[0].cutoff
 
     @property
     def n_parts(self) -> int:
@@ -162,7 +163,9 @@ class PartedMap:
         return out
 
     @classmethod
-    def from_arrays(cls, arrays: dict[str, Any], radius: float, learning_rate: float = 0.1) -> PartedMap:
+    def from_arrays(
+        cls, arrays: dict[str, Any], radius: float, learning_rate: float = 0.1, cutoff: float | None = None
+    ) -> PartedMap:
         """The parted map stored by :meth:`to_arrays`, exactly.
 
         Raises:
@@ -189,7 +192,7 @@ class PartedMap:
         maps = []
         for start, end in zip(ends - sizes, ends, strict=True):
             part = {k: np.asarray(arrays[k])[start:end] for k in cls.ARRAY_NAMES}
-            maps.append(LocalLinearMap.from_arrays(part, radius, learning_rate))
+            maps.append(LocalLinearMap.from_arrays(part, radius, learning_rate, cutoff=cutoff))
         n = maps[0].n_inputs_
         sectors = Sectors.checked(
             arrays["part_origin"], arrays["part_u"], arrays["part_v"], arrays["part_edges"], n
@@ -198,7 +201,10 @@ class PartedMap:
 
     def copy(self) -> PartedMap:
         """An independent copy (the maps' arrays copied)."""
-        maps = [LocalLinearMap.from_arrays(m.to_arrays(), m.radius, m.learning_rate) for m in self.maps]
+        maps = [
+            LocalLinearMap.from_arrays(m.to_arrays(), m.radius, m.learning_rate, cutoff=m.cutoff)
+            for m in self.maps
+        ]
         return PartedMap(maps, self.sectors)
 
     def __repr__(self) -> str:

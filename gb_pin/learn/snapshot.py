@@ -165,7 +165,9 @@ def _fill(
         if np.any(np.isinf(values) | (values < 0)):  # distances: NaN (not measured yet) or finite >= 0
             raise InvalidArgumentError(f"{name} must be distances >= 0 or NaN")
     K = np.shape(arrays["prototypes"])[0] if np.ndim(arrays["prototypes"]) == 2 else 0
-    st.llm = LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate, capacity=max(2 * K, 256))
+    st.llm = LocalLinearMap.from_arrays(
+        arrays, config.radius, config.learning_rate, capacity=max(2 * K, 256), cutoff=config.cutoff
+    )
     if st.llm.n_inputs_ != n or st.llm.n_outputs_ != m:
         raise InvalidArgumentError(f"the map has {st.llm.n_outputs_} outputs and {st.llm.n_inputs_} inputs")
     st.A = _real(arrays, "noise_A", (m, n))

@@ -149,7 +149,7 @@ class BabbleState:
             )
         st.sensor = None if sensor is None or sensor.ideal else sensor.start(n)
         x_home = st._home_position(kinematics, home_position, n)
-        st.llm = LocalLinearMap(radius=config.radius, learning_rate=config.learning_rate).initialize(
+        st.llm = LocalLinearMap(config.radius, config.learning_rate, config.cutoff).initialize(
             x_home, st.home
         )
         st.A = np.empty((m, n))

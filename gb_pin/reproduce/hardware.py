@@ -86,7 +86,9 @@ class _Snapshots:
             from gb_pin.learn.llm import LocalLinearMap
 
             self.maps[state.movements] = LocalLinearMap.from_arrays(
-                {k: v.copy() for k, v in state.llm.to_arrays().items()}, state.config.radius
+                {k: v.copy() for k, v in state.llm.to_arrays().items()},
+                state.config.radius,
+                cutoff=state.config.cutoff,
             )
 
 

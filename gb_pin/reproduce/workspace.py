@@ -44,7 +44,7 @@ class Condition(NamedTuple):
     @property
     def key(self) -> str:
         """The cache file's name: robot, fraction, seed and a hash of every setting that changes numbers."""
-        settings = json.dumps([*self, SNAPSHOTS, "v3"])  # v2: learning rate 0.5; v3: parts=auto
+        settings = json.dumps([*self, SNAPSHOTS, "v4"])  # v2: learning rate 0.5; v3: parts=auto; v4: cutoff 4
         digest = hashlib.sha256(settings.encode()).hexdigest()[:12]
         return f"{self.robot.replace(':', '_')}_f{self.fraction:g}_s{self.seed}_{digest}"
 
@@ -67,7 +67,9 @@ class _Snapshots:
                 self.maps[state.movements] = state.llm.copy()
                 return
             self.maps[state.movements] = LocalLinearMap.from_arrays(
-                {k: v.copy() for k, v in state.llm.to_arrays().items()}, state.config.radius
+                {k: v.copy() for k, v in state.llm.to_arrays().items()},
+                state.config.radius,
+                cutoff=state.config.cutoff,
             )
 
 

@@ -54,6 +54,7 @@ def babble(
     radius: float | None = None,
     path_length: int | None = None,
     p_home: float | None = None,
+    cutoff: float | None = None,
     targets: ArrayLike | str | None = None,
     eval_targets: ArrayLike | None = None,
     schedule: ArrayLike | None = None,
@@ -98,6 +99,9 @@ def babble(
         radius: prototype radius d [m].
         path_length: L, steps per movement.
         p_home: probability of a home return.
+        cutoff: c [radii]: the map's sums leave out prototypes below exp(-c^2) of the nearest
+            one's activation (faster with hundreds of prototypes); None: all (the paper's), 4 for
+            a workspace region.
         targets: target set X* (N, n) [m], where the goals come from; default the robot's, or
             for a target without one the ``"auto"`` grid (:meth:`KinematicTarget.auto_targets`).
             Generators that need no goal set (``"directions"``, ``"motor"``) use it only as the
@@ -161,7 +165,7 @@ def babble(
         spec = robot
     else:
         spec = RunSpec(
-            robot, movements, seed, learning_rate, sigma, sigma_delta, radius, path_length, p_home,
+            robot, movements, seed, learning_rate, sigma, sigma_delta, radius, path_length, p_home, cutoff,
             targets, eval_targets, schedule, record, goals, changes, init, until_error, max_joint_step,
             sensor, reach_window, obstacles, self_collision, collision_geometry, clearance,
         )  # fmt: skip

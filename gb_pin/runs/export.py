@@ -9,6 +9,7 @@ exponential's last bit differ; tested to 1e-12). Arrays (no pickle, ``np.load(pa
 - ``matrices`` (K, m, n): W_k, acting on u_k = (x - p_k) / radius;
 - ``offsets`` (K, m): o_k;
 - ``radius`` (): d; g(x) = sum_k b_k (o_k + W_k u_k) / sum_k b_k, b_k = exp(-||u_k||^2);
+- ``cutoff`` (): c^2 of a truncated map (inf: none): b_k = 0 where ||u_k||^2 > min_j ||u_j||^2 + c^2;
 - ``home``, ``lower``, ``upper`` (m,): the home posture and joint limits (clip what you execute);
 - ``joints`` (m,) and ``axes`` (): names, as text; ``format_version`` ().
 """
@@ -54,6 +55,7 @@ def export_inverse(result: Any, path: str | os.PathLike[str]) -> str:
             matrices=arrays["matrices"],
             offsets=arrays["offsets"],
             radius=np.float64(result.model.radius),
+            cutoff=np.float64(np.inf if result.model.cutoff is None else float(result.model.cutoff) ** 2),
             home=np.asarray(target.home, dtype=np.float64),
             lower=np.asarray(target.lower, dtype=np.float64),
             upper=np.asarray(target.upper, dtype=np.float64),

@@ -123,9 +123,9 @@ def read_result(path: str | os.PathLike[str], target: KinematicTarget | None = N
             )
         config = BabbleConfig(**fields.config(path, meta))
         model: Any = (
-            PartedMap.from_arrays(arrays, config.radius, config.learning_rate)
+            PartedMap.from_arrays(arrays, config.radius, config.learning_rate, config.cutoff)
             if "part_sizes" in arrays  # a workspace region learnt in parts (gb_pin.runs.parted)
-            else LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate)
+            else LocalLinearMap.from_arrays(arrays, config.radius, config.learning_rate, cutoff=config.cutoff)
         )
         if (model.n_outputs_, model.n_inputs_) != (target.n_joints, target.n_task):
             raise ResultFileError(

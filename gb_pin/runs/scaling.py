@@ -18,6 +18,9 @@ workspace region: ``targets="workspace:fraction=0.5"``) takes, for each setting 
   less often: at 10^4 movements, 3 seeds, SO-101 median / 90 % 3.10 / 19.1 mm at 0.1, 1.74 / 8.5 at
   0.3, 1.73 / 6.6 at 0.5, 1.90 / 5.7 at 1.0; Panda 6.76 / 151 at 0.1, 6.29 / 84 at 0.3, 7.34 / 85
   at 0.5);
+- for a workspace region, the map's cutoff :data:`REGION_CUTOFF` (c = 4 radii: prototypes whose
+  activation is below exp(-16) = 1.1e-7 of the nearest one's are left out of its sums; of a
+  region's 800 prototypes about 110 remain, and a step costs about half);
 - the direction step of ``goals="directions"`` (when its ``distance`` is not given):
   :data:`DIRECTION_SHARE` L.
 
@@ -54,6 +57,7 @@ REGION_SIGMA_GAIN = 2.0  # sigma of a workspace region: this times Eq. 12's (cap
 DIRECTION_SHARE = 0.1  # direction sampling's step D, a share of L
 REGION_DENSE = 100  # a region's E^X is recorded after every movement up to this count, then 20 per decade
 REGION_LEARNING_RATE = 0.5  # eta of a workspace region (measured, docs/WORKSPACE.md)
+REGION_CUTOFF = 4.0  # c of a workspace region's map: its sums over ~1/7 of the prototypes (docs/WORKSPACE.md)
 
 
 def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = None) -> RunSpec:
@@ -103,6 +107,8 @@ def scaled_spec(spec: RunSpec, target: Any, defaults: dict[str, Any] | None = No
     floor = _floors(target, defaults or {}) if region is None else {}
     if region is not None and spec.learning_rate is None:
         changes["learning_rate"] = REGION_LEARNING_RATE
+    if region is not None and spec.cutoff is None:
+        changes["cutoff"] = REGION_CUTOFF
     if spec.radius is None:
         share = REGION_RADIUS_SHARE if region is not None else RADIUS_SHARE
         changes["radius"] = max(share * L, floor.get("radius", 0.0))

@@ -182,6 +182,7 @@ def continue_from(st: BabbleState, init: Any) -> None:
         st.config.radius,
         st.config.learning_rate,
         capacity=max(2 * prev.llm.n_prototypes_, 256),
+        cutoff=st.config.cutoff,
     )
     st.A[:] = prev.A
     st.b[:] = prev.b

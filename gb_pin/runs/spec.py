@@ -46,6 +46,7 @@ class RunSpec:
         radius: prototype radius d [m] (None: the preset's, else 0.1).
         path_length: L, steps per movement (None: 25).
         p_home: probability of a home return (None: 0.1).
+        cutoff: c [radii], the map's truncated sums (None: all prototypes; a workspace region: 4).
         targets: the goal set X* (N, n) [m]; default the robot's, else its "auto" grid; or a
             workspace region, ``"workspace:fraction=0.5"`` (:mod:`gb_pin.robot.workspace`: goals
             and separate test points from the arm's own reach). Targets other than the robot's
@@ -82,6 +83,7 @@ class RunSpec:
     radius: float | None = None
     path_length: int | None = None
     p_home: float | None = None
+    cutoff: float | None = None
     targets: ArrayLike | str | None = None
     eval_targets: ArrayLike | None = None
     schedule: ArrayLike | None = None

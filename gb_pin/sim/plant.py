@@ -413,12 +413,16 @@ class MujocoPlant(FunctionTarget):
     # -- checkpoints ---------------------------------------------------------------------------
     def robot_state(self) -> dict[str, NDArray[Any]]:
         """The arm's and the sensor's state as arrays (see :mod:`gb_pin.sim.snapshot`)."""
-        return {
+        out: dict[str, NDArray[Any]] = {
             "counters": np.array([self.asks, self.steps], dtype=np.int64),
             "mujoco": self._state(),
             "sensor": snapshot.generator_words(self._readings.rng),
             "settings": self._settings.copy(),
         }
+        if self.camera is not None:  # a rendering plant: its pictures' noise continues too
+            words = snapshot.generator_words(self.camera.rng)
+            out["camera"] = np.concatenate([np.array([self.camera.frames], dtype=np.uint64), words])
+        return out
 
     def _state(self) -> NDArray[np.float64]:
         state = np.empty(self._mj.mj_stateSize(self.mj_model, self._state_kind))
@@ -444,6 +448,9 @@ class MujocoPlant(FunctionTarget):
             raise
         self._mj.mj_forward(self.mj_model, self.mj_data)
         snapshot.set_generator(self._readings.rng, checked["sensor"])
+        if self.camera is not None and "camera" in checked:
+            self.camera.frames = int(checked["camera"][0])
+            snapshot.set_generator(self.camera.rng, checked["camera"][1:])
         self.asks, self.steps = asks, steps
 
     def __repr__(self) -> str:

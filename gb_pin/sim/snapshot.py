@@ -12,7 +12,9 @@ arrays beside the learner's (``robot_state()``) and restore them on resume
 - ``sensor``: the sensor generator's PCG64 state as six unsigned 64-bit words;
 - ``counters``: asks and simulation steps so far;
 - ``settings``: a SHA-256 digest of the model text, the settling rule and the sensor, so that a
-  checkpoint is never continued on a plant with other servos, physics or sensor.
+  checkpoint is never continued on a plant with other servos, physics or sensor;
+- ``camera`` (a rendering plant only): its pictures so far and its pixel noise's PCG64 state (7 words),
+  so that a run watched by the plant's camera continues with the pictures it would have taken.
 
 The arrays come from files (untrusted): :func:`unpack` checks every one before use.
 """
@@ -28,6 +30,7 @@ from numpy.typing import NDArray
 from gb_pin.exceptions import InvalidArgumentError
 
 KEYS = ("counters", "mujoco", "sensor", "settings")
+OPTIONAL = ("camera",)
 _MASK = (1 << 64) - 1
 
 
@@ -69,19 +72,23 @@ def unpack(arrays: Any, state_size: int, settings: NDArray[np.uint8]) -> dict[st
     Raises:
         InvalidArgumentError: anything missing, malformed, or written by a plant of other settings.
     """
-    if not isinstance(arrays, dict) or sorted(arrays) != sorted(KEYS):
+    if not isinstance(arrays, dict) or not set(KEYS) <= set(arrays) <= set(KEYS + OPTIONAL):
         keys = sorted(arrays) if isinstance(arrays, dict) else arrays
         raise InvalidArgumentError(
-            f"a simulated plant's state has the arrays {list(KEYS)}, got {keys!r:.200}"
+            f"a simulated plant's state has the arrays {list(KEYS)} (and a camera's {list(OPTIONAL)}), "
+            f"got {keys!r:.200}"
         )
-    out = {k: np.asarray(arrays[k]) for k in KEYS}
+    out = {k: np.asarray(arrays[k]) for k in arrays}
     expected = {
         "counters": (np.int64, (2,)),
         "mujoco": (np.float64, (state_size,)),
         "sensor": (np.uint64, (6,)),
         "settings": (np.uint8, (32,)),
+        "camera": (np.uint64, (7,)),
     }
     for key, (dtype, shape) in expected.items():
+        if key not in out:
+            continue
         if out[key].dtype != dtype or out[key].shape != shape:
             raise InvalidArgumentError(
                 f"the plant's {key!r} must be {np.dtype(dtype).name} of shape {shape}, "
@@ -94,6 +101,7 @@ def unpack(arrays: Any, state_size: int, settings: NDArray[np.uint8]) -> dict[st
         )
     if not np.all(np.isfinite(out["mujoco"])) or np.any(out["counters"] < 0):
         raise InvalidArgumentError("the plant's state holds non-finite numbers or negative counters")
-    if int(out["sensor"][4]) > 1 or int(out["sensor"][5]) > 0xFFFFFFFF or not int(out["sensor"][2]) & 1:
-        raise InvalidArgumentError("the plant's sensor state is not a PCG64 state")
+    for key, words in (("sensor", out["sensor"]), ("camera", out.get("camera", np.zeros(7, np.uint64))[1:])):
+        if key in out and (int(words[4]) > 1 or int(words[5]) > 0xFFFFFFFF or not int(words[2]) & 1):
+            raise InvalidArgumentError(f"the plant's {key} state is not a PCG64 state")
     return out

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin.exceptions import CameraError
+from gb_pin.exceptions import CameraError, InvalidArgumentError
 from gb_pin.robot.function import FunctionTarget
 from gb_pin.vision.sensor import CameraSensor
 from gb_pin.vision.taught import goal_box, teach
@@ -114,6 +114,40 @@ class WatchedRobot(FunctionTarget):
             return np.array([np.full(self.n_task, np.nan) if r is None else r for r in rows])
         self._move(check.vector("q", q, self.n_joints))
         return self.camera_sensor.read()
+
+    def robot_state(self) -> dict[str, NDArray[Any]]:
+        """The watched robot's own state (a simulated plant's, its camera's included), the sensor's counts.
+
+        Saved in session checkpoints, so that a resumed run continues with the pictures it would
+        have taken; a real arm has no state of its own (only the counts are kept).
+        """
+        save = getattr(self.robot, "robot_state", None)
+        out = {} if save is None else {f"robot.{k}": np.asarray(v) for k, v in save().items()}
+        out["sensor_counts"] = np.array([self.camera_sensor.reads, self.camera_sensor.lost], dtype=np.int64)
+        return out
+
+    def set_robot_state(self, arrays: dict[str, NDArray[Any]]) -> None:
+        """Continue from :meth:`robot_state`'s arrays (a checkpoint's).
+
+        Raises:
+            InvalidArgumentError: the arrays do not fit this robot (another robot's, or malformed).
+        """
+        counts = np.asarray(arrays.get("sensor_counts", np.zeros(0)))
+        if counts.dtype != np.int64 or counts.shape != (2,) or np.any(counts < 0) or counts[1] > counts[0]:
+            raise InvalidArgumentError(
+                f"a watched robot's sensor_counts must be two counts, got {counts!r:.80}"
+            )
+        own = {k[len("robot.") :]: v for k, v in arrays.items() if k.startswith("robot.")}
+        unknown = sorted(set(arrays) - {"sensor_counts"} - {f"robot.{k}" for k in own})
+        restore = getattr(self.robot, "set_robot_state", None)
+        if unknown or (own and restore is None) or (restore is not None and not own):
+            raise InvalidArgumentError(
+                f"the checkpoint's robot state ({sorted(arrays)}) was not written by a robot like "
+                f"{self.robot!r:.80}"
+            )
+        if restore is not None:
+            restore(own)
+        self.camera_sensor.reads, self.camera_sensor.lost = int(counts[0]), int(counts[1])
 
     def observe(self, q: ArrayLike) -> NDArray[np.float64] | None:
         """``forward``, named for ``result.reach(targets, robot.observe)``."""
