@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gb_pin._signals import deferring
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.layout import MOVEMENT_DONE
@@ -160,7 +161,9 @@ class AskTell:
                     f"{', E^X reached until_error' if st.reached else ''}); nothing more to ask"
                 )
         while True:
-            status = ask_step(st.rng, self._learner, self._limits, self._run, self._goals, self._rec)
+            status = deferring(
+                ask_step, st.rng, self._learner, self._limits, self._run, self._goals, self._rec
+            )
             if status == layout.DONE:
                 break
             self._handle(status)
@@ -194,8 +197,15 @@ class AskTell:
                 if st.reached:
                     return
             while True:
-                status = kernel_movement(
-                    st.rng, self._learner, self._limits, self._run, self._goals, self._rec, kernel
+                status = deferring(
+                    kernel_movement,
+                    st.rng,
+                    self._learner,
+                    self._limits,
+                    self._run,
+                    self._goals,
+                    self._rec,
+                    kernel,
                 )
                 if status == MOVEMENT_DONE:
                     break
@@ -246,12 +256,16 @@ class AskTell:
         st = self.state
         if done is None:
             return bool(
-                tell_step(st.rng, self._learner, self._limits, self._run, self._rec, arr is not None)
+                deferring(
+                    tell_step, st.rng, self._learner, self._limits, self._run, self._rec, arr is not None
+                )
                 == MOVEMENT_DONE
             )
         asked = self._q.copy()
         self._q[:] = done
-        status = tell_step(st.rng, self._learner, self._limits, self._run, self._rec, arr is not None)
+        status = deferring(
+            tell_step, st.rng, self._learner, self._limits, self._run, self._rec, arr is not None
+        )
         self._run.motion.q_exec[:] = asked  # the step limit goes on from the last command
         self._q[:] = asked
         return bool(status == MOVEMENT_DONE)

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
+from gb_pin._signals import deferring
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn import layout
 from gb_pin.learn.body.chain import KinematicChain
@@ -154,7 +155,7 @@ class BabbleState:
         )
         st.A = np.empty((m, n))
         st.b = np.empty(m)
-        noise_init(st.rng, config.sigma, st.A, st.b)
+        deferring(noise_init, st.rng, config.sigma, st.A, st.b)
         # The robot starts at rest at home: previous posture, position and target are home's.
         st.vectors = {k: (st.home if k.startswith("q") else x_home).copy() for k in cls.VECTORS}
         st.istate = np.zeros(layout.ISTATE_SIZE, dtype=np.int64)
@@ -338,7 +339,7 @@ class BabbleState:
         """Run to ``stop``; True if :attr:`interrupt` stopped it before."""
         args = self.kernel_args(SLICE_SECONDS)
         while True:
-            status = babble_loop(self.rng, stop, *args)
+            status = deferring(babble_loop, self.rng, stop, *args)
             self.llm.set_count(int(self.istate[layout.PROTOTYPES]))
             if status == layout.DONE:
                 return False
