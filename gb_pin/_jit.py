@@ -17,7 +17,7 @@ import hashlib
 import os
 from typing import Any
 
-from numba import njit
+from numba import njit as _numba_njit
 
 # The package's files that hold compiled code, relative to the package directory.
 KERNEL_FILES: tuple[str, ...] = (
@@ -106,4 +106,48 @@ def _install() -> bool:
 
 INSTALLED = _install()
 
-__all__ = ["INSTALLED", "KERNEL_FILES", "kernel_stamp", "njit"]
+
+def _refcount_option(on: bool) -> dict[str, Any]:
+    """``{"_nrt": on}`` where this numba has the option (a private one), else nothing."""
+    try:
+        from numba.core.cpu import CPUTargetOptions
+    except ImportError:  # pragma: no cover - a numba that moved it
+        return {}
+    return {"_nrt": on} if hasattr(CPUTargetOptions, "_nrt") else {}
+
+
+NO_REFCOUNT: dict[str, Any] = _refcount_option(False)
+"""``njit(**NO_REFCOUNT)``: no reference counting of arrays (and no allocation), where numba offers it.
+
+A kernel compiled so cannot allocate (numba refuses to compile one that does) and must not be given
+an array a callee allocated (it would never be freed); it reads and writes the arrays it is passed.
+"""
+REFCOUNTED: dict[str, Any] = _refcount_option(True)
+"""Reference counting stated (see :func:`njit`)."""
+OVERLOAD_OPTIONS: Any = {"nogil": True, "error_model": "numpy", **REFCOUNTED}
+"""``jit_options`` of gb_pin's ``@overload`` implementations: the kernels' options, counting stated."""
+
+
+def njit(*args: Any, **options: Any) -> Any:
+    """numba's ``njit``, with reference counting stated for every gb_pin kernel (on unless given).
+
+    numba compiles a kernel met during another kernel's compilation with the caller's ``nrt`` flag
+    unless the kernel states its own. Kernels without counting (:data:`NO_REFCOUNT`: the IK's, the
+    babbling loop :func:`~gb_pin.learn.loop.babble_loop`) call kernels that allocate (e.g.
+    :func:`~gb_pin.learn.metrics.reach_median`); stating it for every kernel compiles each the same
+    way whichever caller or process (the cold start's helper) compiles it first.
+    """
+    for key, value in REFCOUNTED.items():
+        options.setdefault(key, value)
+    return _numba_njit(*args, **options)
+
+
+__all__ = [
+    "INSTALLED",
+    "KERNEL_FILES",
+    "NO_REFCOUNT",
+    "OVERLOAD_OPTIONS",
+    "REFCOUNTED",
+    "kernel_stamp",
+    "njit",
+]

@@ -10,19 +10,6 @@ cannot allocate (numba refuses to compile one that does), which keeps the hot lo
 
 from __future__ import annotations
 
-from typing import Any
+from gb_pin._jit import NO_REFCOUNT
 
 __all__ = ["NO_REFCOUNT"]
-
-
-def _no_refcount() -> dict[str, Any]:
-    """``{"_nrt": False}`` where this numba has the option (a private one), else nothing (counted, slower)."""
-    try:
-        from numba.core.cpu import CPUTargetOptions
-    except ImportError:  # pragma: no cover - a numba that moved it
-        return {}
-    return {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
-
-
-NO_REFCOUNT: dict[str, Any] = _no_refcount()
-"""``njit(**NO_REFCOUNT)``: no reference counting (no allocation either), where numba offers it."""

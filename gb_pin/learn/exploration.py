@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gb_pin import _validation as check
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
+from gb_pin._signals import deferring
 
 
 def noise_init(
@@ -37,7 +38,7 @@ def noise_init(
     b[:] = sigma * z[m * n :]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
     """One step of the normalised Gaussian random walk on every entry (Eq. 8)."""
     # sqrt(sigma^2 / (sigma^2 + sigma_delta^2)), written so that it cannot overflow.
@@ -53,7 +54,7 @@ def noise_walk(rng, sigma, sigma_delta, A, b):  # type: ignore[no-untyped-def]
                 b[j] = shrink * (b[j] + sigma_delta * z)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def noise_add(A, b, x, q):  # type: ignore[no-untyped-def]
     """q += A x + b (Eq. 2 adds E_t(x*_t) to the inverse estimate)."""
     m, n = A.shape
@@ -83,11 +84,11 @@ class StructuredNoise:
         self.rng = rng
         self.A = np.zeros((check.positive_int("n_joints", n_joints), check.positive_int("n_task", n_task)))
         self.b = np.zeros(n_joints)
-        noise_init(rng, self.sigma, self.A, self.b)
+        deferring(noise_init, rng, self.sigma, self.A, self.b)
 
     def step(self) -> None:
         """Advance the random walk by one time step."""
-        noise_walk(self.rng, self.sigma, self.sigma_delta, self.A, self.b)
+        deferring(noise_walk, self.rng, self.sigma, self.sigma_delta, self.A, self.b)
 
     def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """E_t(x) for one input (n,) -> (m,)."""

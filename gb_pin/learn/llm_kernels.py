@@ -42,7 +42,7 @@ from numba import types
 from numba.extending import overload
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
 from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
@@ -153,7 +153,7 @@ class Scratch(NamedTuple):
     J: NDArray[np.float64]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def llm_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` (m,); returns (sum of activations, min ||u_k||^2).
 
@@ -257,7 +257,7 @@ def _truncated_predict_overload(x, lm, K, out):  # type: ignore[no-untyped-def]
     return lambda x, lm, K, out: (0.0, 0.0)  # never called: the untruncated path
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def _truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     """g(x) into ``out`` over the prototypes near x only; returns (sum of their activations, nearest).
 
@@ -356,7 +356,7 @@ def llm_jacobian(x, lm, K, scratch):  # type: ignore[no-untyped-def]
     _jacobian_of_prediction(lm, K, total, scratch)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-def]
     """dg/dx into ``scratch.J`` from the last prediction (u_k, activations, their sum, g in ``scratch.g``)."""
     M, U, act = lm.models, lm.inputs, lm.act
@@ -405,7 +405,7 @@ def llm_insert(x, lm, K, total, scratch):  # type: ignore[no-untyped-def]
     return K + 1
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def llm_learn(x, q, w, eta, lm, K, scratch):  # type: ignore[no-untyped-def]
     """One online step on the example (x, q) with weight w; returns the new prototype count.
 
@@ -450,7 +450,7 @@ def _update_block_overload(lm, K, block, errors, scale, used):  # type: ignore[n
     return whole
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def llm_predict_many(X, lm, K, out, nearest):  # type: ignore[no-untyped-def]
     """g(x) for every row of X (N, n) into out (N, m); min_k ||u_k||^2 of each row into nearest (N,)."""
     for r in range(X.shape[0]):

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gb_pin import _validation as check
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.chain import body_forward
 from gb_pin.learn.body.task import add_component_errors
@@ -23,7 +23,9 @@ from gb_pin.learn.clock import monotonic
 from gb_pin.learn.llm_kernels import llm_predict
 
 
-@njit(cache=True, nogil=True, error_model="numpy")  # not inlined: called rarely, kept out of the step loop
+@njit(
+    cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT
+)  # not inlined: called rarely, kept out of the step loop
 def evaluate_model(evaluation, c, robot, lm, K, motion, deadline):  # type: ignore[no-untyped-def]
     """(E^X, D^home) of the current inverse estimate over ``targets`` (N, n) (Eqs. 9, 10), in slices.
 

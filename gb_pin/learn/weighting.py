@@ -16,10 +16,10 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def direction_weight(target, target_prev, x, x_prev):  # type: ignore[no-untyped-def]
     """w_dir of Eq. 4 from the intended and the observed displacement."""
     dot = 0.0
@@ -41,7 +41,7 @@ def direction_weight(target, target_prev, x, x_prev):  # type: ignore[no-untyped
     return 0.5 * (1.0 + cos)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def efficiency_weight(x, x_prev, q, q_prev):  # type: ignore[no-untyped-def]
     """w_eff of Eq. 5: effector displacement per joint displacement (0 if q did not move)."""
     dq = 0.0

@@ -36,18 +36,21 @@ from typing import Any
 
 # The loop's callees by the share of the work each process does (about equal CPU time, the helper's
 # less its start-up); this process compiles OWN before the loop, in this order (the map's kernels:
-# the last two call the first two).
-OWN = ("llm_predict", "jacobian_of_prediction", "llm_learn", "noise_free_reach")
-# The helper's share, in the order the loop's type inference meets them.
+# the last two call the first two), then waits for the helper (at most WAIT seconds).
+OWN = ("llm_predict", "jacobian_of_prediction", "llm_learn", "noise_free_reach", "start_slice", "slice_over")
+# The helper's share, in this order: the evaluation calls llm_predict, by then in the cache (this
+# process compiles it first; the helper would compile it again if not).
 HELPER = (
     "reach_median",
     "snap_start",
     "next_goal",
+    "evaluate_model",
     "noise_add",
     "efficiency_weight",
     "direction_weight",
     "noise_walk",
 )
+WAIT = 5.0  # seconds this process waits for the helper's share before compiling what is left itself
 ENV = "GB_PIN_PARALLEL_COMPILE"
 
 
@@ -69,12 +72,12 @@ def callee_signatures(rng: Any, args: tuple[Any, ...]) -> dict[str, tuple[Any, t
     from gb_pin.learn.exploration import noise_add, noise_walk
     from gb_pin.learn.goals.kernel import next_goal, snap_start
     from gb_pin.learn.llm_kernels import _jacobian_of_prediction, llm_learn, llm_predict
-    from gb_pin.learn.loop import noise_free_reach
-    from gb_pin.learn.metrics import reach_median
+    from gb_pin.learn.loop import noise_free_reach, slice_over, start_slice
+    from gb_pin.learn.metrics import evaluate_model, reach_median
     from gb_pin.learn.weighting import direction_weight, efficiency_weight
 
-    learner, robot, run, goals, _ = args
-    mo, hyper, limits = run.motion, learner.hyper, robot.limits
+    learner, robot, run, goals, monitor = args
+    mo, hyper, limits, ev = run.motion, learner.hyper, robot.limits, monitor.evaluation
     t = typeof
     count, real = types.int64, types.float64
     return {
@@ -101,6 +104,9 @@ def callee_signatures(rng: Any, args: tuple[Any, ...]) -> dict[str, tuple[Any, t
             noise_free_reach,
             (t(mo.path_end), t(mo.x_prev), t(mo.q_exec), t(learner), count, t(limits.lower), t(limits.upper)),
         ),
+        "evaluate_model": (evaluate_model, (t(ev), count, t(robot), t(learner.lm), count, t(mo), real)),
+        "start_slice": (start_slice, (t(ev), count)),
+        "slice_over": (slice_over, (t(ev), count)),
     }
 
 
@@ -121,7 +127,7 @@ def cache_is_cold_and_writable() -> bool:
     from gb_pin.learn.loop import babble_loop
 
     try:
-        cache = babble_loop._cache  # type: ignore[attr-defined]
+        cache = babble_loop._cache
         path = cache._cache_path
         index = cache._cache_file._load_index()
     except Exception:  # another numba's internals: no helper, the loop compiles here as before
@@ -182,6 +188,16 @@ def start_helper() -> subprocess.Popen[bytes] | None:
         return None
 
 
+def wait_for(proc: subprocess.Popen[bytes], seconds: float) -> None:
+    """Wait until the helper has compiled its share (it then exits), at most ``seconds``.
+
+    Compiling the loop before the helper is done would compile the helper's unfinished kernels here
+    as well (the loop's type inference meets them first): waiting is shorter.
+    """
+    with contextlib.suppress(subprocess.TimeoutExpired):  # a slow helper: the loop compiles the rest
+        proc.wait(timeout=seconds)
+
+
 def stop_helper(proc: subprocess.Popen[bytes]) -> None:
     """End the helper (its kernels are in the cache or no longer needed) and reap it."""
     if proc.poll() is None:
@@ -205,6 +221,7 @@ def parallel_compile() -> Iterator[subprocess.Popen[bytes] | None]:
     try:
         if proc is not None:
             compile_share(OWN)
+            wait_for(proc, WAIT)
         yield proc
     finally:
         if proc is not None:
@@ -229,4 +246,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    os._exit(main())  # the kernels are in the cache: no interpreter teardown for the parent to wait on

@@ -212,7 +212,7 @@ class CollisionChecker:
         if self._entry is None:
             k = first_candidate(*args)
             signature = tuple(first_candidate.typeof_pyval(x) for x in args)
-            self._entry = first_candidate.overloads[signature].entry_point  # type: ignore[attr-defined]
+            self._entry = first_candidate.overloads[signature].entry_point
             return int(k)
         return int(self._entry(*args))
 

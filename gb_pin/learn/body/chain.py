@@ -24,7 +24,7 @@ from numba import types
 from numba.extending import overload
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.exceptions import InvalidArgumentError
 from gb_pin.learn.body.components import TaskComponents
 from gb_pin.learn.body.joints import PRISMATIC, REVOLUTE, Joints, joints_forward
@@ -57,7 +57,7 @@ class Body(NamedTuple):
     pos_ws: NDArray[np.float64]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def body_forward(q, body, out):  # type: ignore[no-untyped-def]
     """x = f(q) into ``out`` (n,) for one posture ``q`` (m,) (Eq. 1).
 

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 
 POSITION = 0
 ORIENTATION = 1
@@ -136,7 +136,7 @@ class TaskComponents:
         return None
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)  # the IK calls it without counting
 def components_forward(task, rot_ws, pos_ws, out):  # type: ignore[no-untyped-def]
     """The stacked task vector into ``out`` (n,) from the joint frames (``task``: TaskArrays).
 

@@ -22,7 +22,7 @@ from numba import types
 from numba.extending import overload
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import OVERLOAD_OPTIONS, njit
 from gb_pin.learn.body.components import TaskComponents, component_errors_into, components_forward
 
 FRAME_POSITION = 0
@@ -168,7 +168,7 @@ def add_component_errors(task: Any, target: Any, reached: Any, acc: Any) -> None
     raise TypeError("add_component_errors runs inside compiled code")
 
 
-@overload(add_component_errors, jit_options={"nogil": True, "error_model": "numpy"})
+@overload(add_component_errors, jit_options=OVERLOAD_OPTIONS)
 def _add_component_errors(task, target, reached, acc):  # type: ignore[no-untyped-def]
     if isinstance(task, types.BaseNamedTuple) and task.instance_class is StackedTaskArrays:
         return lambda task, target, reached, acc: component_errors_into(task, target, reached, acc)

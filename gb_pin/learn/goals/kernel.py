@@ -17,7 +17,7 @@ from typing import Any
 from numba import types
 from numba.extending import overload
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, OVERLOAD_OPTIONS, njit
 from gb_pin.learn.goals.base import (
     CURRICULUM,
     CYCLIC,
@@ -43,7 +43,7 @@ def _family(goals: Any) -> type | None:
     return cls if cls in (DirectionArrays, SelectorArrays, MotorArrays) else None
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def next_goal(goals, rng, start, out):  # type: ignore[no-untyped-def]
     """Write the next goal into ``out`` (n,) for a built-in generator; False if Python must decide.
 
@@ -60,7 +60,7 @@ def _family_goal(goals: Any, rng: Any, start: Any, out: Any) -> bool:
     raise TypeError("_family_goal runs inside compiled code (see next_goal)")
 
 
-@overload(_family_goal, jit_options={"nogil": True, "error_model": "numpy"})
+@overload(_family_goal, jit_options=OVERLOAD_OPTIONS)
 def _next_goal(goals, rng, start, out):  # type: ignore[no-untyped-def]
     family = _family(goals)
     if family is DirectionArrays:
@@ -183,7 +183,7 @@ def goal_feedback(goals: Any, goal: Any, reached: Any) -> None:
     raise TypeError("goal_feedback runs inside compiled code")
 
 
-@overload(goal_feedback, jit_options={"nogil": True, "error_model": "numpy"})
+@overload(goal_feedback, jit_options=OVERLOAD_OPTIONS)
 def _goal_feedback(goals, goal, reached):  # type: ignore[no-untyped-def]
     if _family(goals) is SelectorArrays:
         return lambda goals, goal, reached: _score_feedback(goals, goal, reached)
@@ -221,7 +221,7 @@ def _score_feedback(goals, goal, reached):  # type: ignore[no-untyped-def]
     istate[LAST] = -1
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", **NO_REFCOUNT)
 def snap_start(goals, goal, reached):  # type: ignore[no-untyped-def]
     """True if the last goal-directed movement ended farther than ``params[SNAP]`` from its goal."""
     threshold = goals.params[SNAP]
@@ -239,7 +239,7 @@ def is_motor(goals: Any) -> bool:
     raise TypeError("is_motor runs inside compiled code")
 
 
-@overload(is_motor, jit_options={"nogil": True, "error_model": "numpy"})
+@overload(is_motor, jit_options=OVERLOAD_OPTIONS)
 def _is_motor(goals):  # type: ignore[no-untyped-def]
     motor = _family(goals) is MotorArrays
     return lambda goals: motor
@@ -250,7 +250,7 @@ def motor_posture(goals: Any, rng: Any, limits: Any, out: Any) -> None:
     raise TypeError("motor_posture runs inside compiled code")
 
 
-@overload(motor_posture, jit_options={"nogil": True, "error_model": "numpy"})
+@overload(motor_posture, jit_options=OVERLOAD_OPTIONS)
 def _motor_posture(goals, rng, limits, out):  # type: ignore[no-untyped-def]
     if _family(goals) is MotorArrays:
         return lambda goals, rng, limits, out: _random_posture(goals, rng, limits, out)
