@@ -7,6 +7,7 @@ import math
 import re
 import threading
 import time
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -228,3 +229,70 @@ def test_an_so100_reaches_home_in_its_urdfs_radians() -> None:
 
 def _arm_of(bus: Emulator, robot: str) -> FeetechArm:
     return FeetechArm(bus.port, robot, bus.calibration, max_joint_step=0.05, reply_timeout=0.005)
+
+
+class _ScriptedLine:
+    """A serial line whose replies land when a script says: ``replies[k]`` (delay s, bytes) for request k."""
+
+    def __init__(self, replies: list[list[tuple[float, bytes]]]) -> None:
+        self.replies, self.requests, self.timeout = replies, 0, 0.0
+        self.arrivals: list[tuple[float, bytes]] = []
+        self.buffer = b""
+
+    def _land(self) -> None:
+        now = time.monotonic()
+        self.buffer += b"".join(data for at, data in self.arrivals if at <= now)
+        self.arrivals = [(at, data) for at, data in self.arrivals if at > now]
+
+    @property
+    def in_waiting(self) -> int:
+        self._land()
+        return len(self.buffer)
+
+    def reset_input_buffer(self) -> None:
+        self._land()
+        self.buffer = b""
+
+    def write(self, data: bytes) -> None:
+        now = time.monotonic()
+        script = self.replies[self.requests] if self.requests < len(self.replies) else []
+        self.arrivals += [(now + delay, reply) for delay, reply in script]
+        self.requests += 1
+
+    def read(self, size: int) -> bytes:
+        deadline = time.monotonic() + self.timeout
+        while True:
+            self._land()
+            if len(self.buffer) >= size or time.monotonic() >= deadline:
+                out, self.buffer = self.buffer[:size], self.buffer[size:]
+                return out
+            time.sleep(0.0005)
+
+
+def test_a_retry_that_read_an_earlier_attempts_late_reply_does_not_hand_its_own_to_the_next_read() -> None:
+    """Request 1 times out; its reply lands during the retry, whose own reply comes after: dropped.
+
+    Before, the next READ (another register, replies of the same size from the same servo) took
+    the retry's reply for its own: a servo's range limits read as each other's under load.
+    """
+    from gb_pin.hardware import protocol as hp
+    from gb_pin.hardware.bus import FeetechBus
+
+    low, high = hp.Register(9, 2, None), hp.Register(11, 2, None)
+
+    def reply(value: int) -> bytes:
+        return hp.packet(1, 0, value.to_bytes(2, "little"))
+
+    line = _ScriptedLine(
+        [
+            [(0.075, reply(826))],  # READ low, attempt 1: 75 ms late (timeout 20 ms, back-off 40 ms)
+            [(0.025, reply(826))],  # attempt 2, sent at 60 ms: reads the late reply; its own lands at 85
+            [(0.020, reply(2170))],  # READ high, sent at 75 ms without the wait: would read the 826 at 85
+        ]
+    )
+    bus = FeetechBus.__new__(FeetechBus)
+    bus.port, bus.reply_timeout, bus.retries, bus.names = "scripted", 0.02, 8, {}
+    bus.faults, bus.transactions, bus.serial, bus.byte_time = Counter(), 0, line, 1e-5
+    assert bus.read(1, low) == 826
+    assert bus.read(1, high) == 2170  # not the retry's late 826
+    assert bus.faults["timeout"] == 1 and bus.faults["late_dropped"] == 1
