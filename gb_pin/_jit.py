@@ -121,6 +121,9 @@ NO_REFCOUNT: dict[str, Any] = _refcount_option(False)
 
 A kernel compiled so cannot allocate (numba refuses to compile one that does) and must not be given
 an array a callee allocated (it would never be freed); it reads and writes the arrays it is passed.
+With counting every array read from the kernels' structures was counted in and out at each use: one
+evaluation of the Panda's IK pose errors and Jacobian took 1.5 us with it and 0.3 us without (min of
+15 runs of 2 x 10^4 evaluations); the babbling loop compiled 0.7 s faster and ran 8-49 % faster.
 """
 REFCOUNTED: dict[str, Any] = _refcount_option(True)
 """Reference counting stated (see :func:`njit`)."""

@@ -18,8 +18,7 @@ import time
 
 import numpy as np
 
-from gb_pin._jit import njit
-from gb_pin.ik.compiled import NO_REFCOUNT
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.learn.clock import clock_gettime as _clock_gettime
 
 __all__ = ["CLOCKS", "now", "stream_seed", "uniform"]

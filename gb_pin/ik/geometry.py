@@ -22,8 +22,7 @@ from __future__ import annotations
 
 import math
 
-from gb_pin._jit import njit
-from gb_pin.ik.compiled import NO_REFCOUNT
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.learn.body.components import ORIENTATION, POSITION
 from gb_pin.learn.body.joints import REVOLUTE
 

@@ -19,9 +19,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.ik.clock import now, stream_seed, uniform
-from gb_pin.ik.compiled import NO_REFCOUNT
 from gb_pin.ik.geometry import goal_from_task
 from gb_pin.ik.solver import Work, evaluate, refine, work_buffers
 from gb_pin.learn.body.components import components_forward

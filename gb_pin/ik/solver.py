@@ -23,7 +23,7 @@ over. An attempt stops on success (every component within its tolerance), after
 deadline. Nothing is allocated per iteration.
 
 The kernels here, in :mod:`~gb_pin.ik.geometry` and :mod:`~gb_pin.ik.search` allocate nothing
-and are compiled without numba's reference counting (:mod:`gb_pin.ik.compiled`).
+and are compiled without numba's reference counting (:data:`gb_pin._jit.NO_REFCOUNT`).
 """
 
 from __future__ import annotations
@@ -34,9 +34,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from gb_pin._jit import njit
+from gb_pin._jit import NO_REFCOUNT, njit
 from gb_pin.ik.clock import now
-from gb_pin.ik.compiled import NO_REFCOUNT
 from gb_pin.ik.geometry import errors_and_jacobian, within
 from gb_pin.learn.body.joints import Joints, joints_forward
 from gb_pin.learn.body.task import StackedTaskArrays

@@ -6,11 +6,12 @@ after the other: numba compiles a callee when the loop's type inference meets it
 are independent compilations, each cached on disk by numba. So when the cache is cold and writable
 and a second core is there, :func:`parallel_compile` starts a helper process (``python -m
 gb_pin.runs.coldstart``) that compiles its share (:data:`HELPER`) into the cache, while this process
-compiles its own share (:data:`OWN`) and then the loop, which loads the helper's kernels from the
-cache instead of compiling them (a kernel the helper has not finished yet is compiled here as well:
-the same function for the same types, the same cache entry). The machine code is the same either
-way: the same functions with the same options for the same argument types, compiled by the same
-numba; only the process that compiles them differs.
+compiles its own share (:data:`OWN`), waits for the helper (at most :data:`WAIT` seconds), and then
+the loop, which loads the helper's kernels from the cache instead of compiling them (a kernel the
+helper has not finished by then is compiled here as well: the same function for the same types, the
+same cache entry). The machine code is the same either way: the same functions with the same
+options (every kernel states its reference counting, :func:`gb_pin._jit.njit`) for the same
+argument types, compiled by the same numba; only the process that compiles them differs.
 
 The helper is stopped when the loop is compiled (or on an error, or Ctrl-C); it also stops by itself
 when its parent is gone. Without a writable cache, on one core, with a warm cache, on a busy
