@@ -37,6 +37,7 @@ KERNEL_FILES: tuple[str, ...] = (
     "learn/goals/draw.py",
     "learn/goals/kernel.py",
     "learn/llm_kernels.py",
+    "learn/llm_list.py",
     "learn/llm_simd.py",
     "learn/loop.py",
     "learn/metrics.py",

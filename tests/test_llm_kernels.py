@@ -212,3 +212,47 @@ def test_bad_cutoff_is_one_clear_error(bad: object) -> None:
 
     with pytest.raises(InvalidArgumentError, match="cutoff"):
         LocalLinearMap(0.1, cutoff=bad).initialize(np.zeros(2), np.zeros(2))  # type: ignore[arg-type]
+
+
+def test_the_simd_minimum_and_list_of_prototypes_within_a_limit_are_the_plain_loops() -> None:
+    """smallest and list_within (eight at a time) give the scalar loops' minimum and list, in order."""
+    from numba import njit
+
+    from gb_pin.learn.llm_list import distances_smallest, list_within, smallest
+
+    @njit(cache=False)
+    def simd(sq, limit, K, near):  # type: ignore[no-untyped-def]
+        return list_within(sq, limit, K, near)
+
+    @njit(cache=False)
+    def least(sq, K):  # type: ignore[no-untyped-def]
+        return smallest(sq, K)
+
+    @njit(cache=False)
+    def fused(x, P, inv, sq, K):  # type: ignore[no-untyped-def]
+        return distances_smallest(x, P, inv, sq, K)
+
+    rng = np.random.default_rng(3)
+    for K in [*range(0, 40), 255, 256, 257, 1001]:
+        sq = rng.uniform(0.0, 30.0, K + 5)  # entries beyond K must be ignored
+        if K > 3:
+            sq[rng.integers(0, K, 3)] = [np.nan, np.inf, 0.0]
+        plain = math.inf
+        for k in range(K):  # llm_predict's rule: a NaN never enters
+            plain = sq[k] if sq[k] < plain else plain
+        assert least(sq, K) == plain
+        assert least(np.full(K + 1, np.nan), K) == math.inf
+        x, P, inv = rng.normal(size=3), rng.normal(size=(3, K + 5)), 1.0 / 0.37
+        loop = []
+        for k in range(K):  # (u0^2 + u1^2) + u2^2, each u_j^2 a product
+            u0, u1, u2 = (float((x[j] - P[j, k]) * inv) for j in range(3))
+            loop.append((u0 * u0 + u1 * u1) + u2 * u2)
+        out = np.full(K + 5, -1.0)
+        assert fused(x, P, inv, out, K) == min(loop, default=math.inf)
+        assert out[:K].tolist() == loop and (out[K:] == -1.0).all()
+        for limit in (-1.0, 0.0, 9.0, 16.5, 31.0, np.inf, np.nan):
+            near = np.full(K + 6, -7, dtype=np.int64)
+            count = simd(sq, limit, K, near)
+            expected = [k for k in range(K) if sq[k] <= limit]
+            assert count == len(expected), (K, limit)
+            assert near[1 : 1 + count].tolist() == expected and near[0] == -7, (K, limit)

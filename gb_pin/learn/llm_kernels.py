@@ -43,6 +43,7 @@ from numba.extending import overload
 from numpy.typing import NDArray
 
 from gb_pin._jit import NO_REFCOUNT, njit
+from gb_pin.learn.llm_list import distances_smallest, list_within, smallest
 from gb_pin.learn.llm_simd import LANES, block_sum, block_sum_near, block_update, block_update_near
 from gb_pin.learn.vector_math import VEXP_LIMIT, vexp
 
@@ -65,7 +66,8 @@ class MapArrays(NamedTuple):
         radius: d [m].
         act: (capacity,) scratch: the activations of the last prediction.
         inputs: (n + 1, capacity) scratch: the scaled inputs u_k = (x - p_k) / d of the last
-            prediction (rows 0..n-1), then ||u_k||^2.
+            prediction (rows 0..n-1, column k; a truncated map's in the order of its list, column
+            t for k = ``nearby[1 + t]``), then ||u_k||^2 (column k).
         errors: (m',) scratch: the error q - g(x) of a learning step, zeros after entry m - 1.
     """
 
@@ -263,9 +265,9 @@ def _truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
 
     A truncated map leaves out of the sums every prototype whose activation is below exp(-c^2)
     of the nearest one's, ||u_k||^2 > min_j ||u_j||^2 + c^2 (``lm.cutoff`` = c^2): their share
-    of g is at most exp(-c^2) each (c = 4: 1.1e-7), while a region's map of 800 prototypes has
-    about 110 within it (docs/WORKSPACE.md), so the exponentials, the sums and the update cost
-    K/7 of the whole map's. The list goes to ``lm.nearby`` in increasing k (the order of the
+    of g is at most exp(-c^2) each (a region's c = 3: 1.2e-4), while a region's map of 800
+    prototypes has about 55 within it (docs/WORKSPACE.md), so the exponentials, the sums and the
+    update cost K/14 of the whole map's. The list goes to ``lm.nearby`` in increasing k (the order of the
     untruncated sums), their activations to ``lm.act[:count]`` in the list's order.
     """
     P, U, act, near = lm.prototypes, lm.inputs, lm.act, lm.nearby
@@ -273,38 +275,39 @@ def _truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     n = x.shape[0]
     sq = U[n]  # ||u_k||^2 for every k; u_k itself only for the prototypes listed
     # The same expressions as llm_predict's, without storing u_k: (u0^2 + u1^2) + u2^2, ...
-    if n == 3:
-        x0, x1, x2 = x[0], x[1], x[2]
-        for k in range(K):
-            u0 = (x0 - P[0, k]) * inv
-            u1 = (x1 - P[1, k]) * inv
-            u2 = (x2 - P[2, k]) * inv
-            sq[k] = (u0 * u0 + u1 * u1) + u2 * u2
-    elif n == 2:
-        x0, x1 = x[0], x[1]
-        for k in range(K):
-            u0 = (x0 - P[0, k]) * inv
-            u1 = (x1 - P[1, k]) * inv
-            sq[k] = u0 * u0 + u1 * u1
+    if n == 3:  # and the minimum in the same pass, eight prototypes a step (llm_list)
+        nearest = distances_smallest(x, P, inv, sq, K)
     else:
-        for k in range(K):
-            sq[k] = 0.0
-        for j in range(n):
-            xj = x[j]
+        if n == 2:
+            x0, x1 = x[0], x[1]
             for k in range(K):
-                u = (xj - P[j, k]) * inv
-                sq[k] += u * u
-    nearest = _smallest(sq, K)
+                u0 = (x0 - P[0, k]) * inv
+                u1 = (x1 - P[1, k]) * inv
+                sq[k] = u0 * u0 + u1 * u1
+        else:
+            for k in range(K):
+                sq[k] = 0.0
+            for j in range(n):
+                xj = x[j]
+                for k in range(K):
+                    u = (xj - P[j, k]) * inv
+                    sq[k] += u * u
+        nearest = smallest(sq, K)  # eight prototypes a step (llm_list)
     limit = nearest + lm.cutoff
-    count = 0
-    for k in range(K):  # without a branch: the prototypes near x lie scattered over k
-        near[count + 1] = k
-        count += sq[k] <= limit
+    count = list_within(sq, limit, K, near)
     near[0] = count
-    for t in range(count):
-        k = near[t + 1]
-        for j in range(n):
-            U[j, k] = (x[j] - P[j, k]) * inv
+    if n == 3:  # u_k of the listed prototypes side by side, in the list's order
+        x0, x1, x2 = x[0], x[1], x[2]
+        for t in range(count):
+            k = near[t + 1]
+            U[0, t] = (x0 - P[0, k]) * inv
+            U[1, t] = (x1 - P[1, k]) * inv
+            U[2, t] = (x2 - P[2, k]) * inv
+    else:
+        for t in range(count):
+            k = near[t + 1]
+            for j in range(n):
+                U[j, t] = (x[j] - P[j, k]) * inv
     for t in range(count):  # the exponents gathered, then the exponentials in SIMD code
         act[t] = nearest - sq[near[t + 1]]
     for t in range(count):
@@ -322,27 +325,6 @@ def _truncated_predict(x, lm, K, out):  # type: ignore[no-untyped-def]
     for i in range(m):
         out[i] /= total
     return total, nearest
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _smallest(sq, K):  # type: ignore[no-untyped-def]
-    """min_k sq[k] in four lanes (exact in any order; NaNs skipped): llm_predict's minimum."""
-    s0 = s1 = s2 = s3 = np.inf
-    k = 0
-    while k + 4 <= K:
-        a, b, c, d = sq[k], sq[k + 1], sq[k + 2], sq[k + 3]
-        s0 = a if a < s0 else s0
-        s1 = b if b < s1 else s1
-        s2 = c if c < s2 else s2
-        s3 = d if d < s3 else s3
-        k += 4
-    while k < K:
-        a = sq[k]
-        s0 = a if a < s0 else s0
-        k += 1
-    s0 = s1 if s1 < s0 else s0
-    s2 = s3 if s3 < s2 else s2
-    return s2 if s2 < s0 else s0
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -372,12 +354,12 @@ def _jacobian_of_prediction(lm, K, total, scratch):  # type: ignore[no-untyped-d
         for i in range(m):
             yi = M[k, 0, i]
             for j in range(n):
-                yi += M[k, 1 + j, i] * U[j, k]
+                yi += M[k, 1 + j, i] * U[j, t]
             y[i] = yi
         for i in range(m):
             r = 2.0 * (y[i] - g[i])
             for j in range(n):
-                J[i, j] += beta * (M[k, 1 + j, i] - r * U[j, k])
+                J[i, j] += beta * (M[k, 1 + j, i] - r * U[j, t])
     for i in range(m):
         for j in range(n):
             J[i, j] *= inv

@@ -79,6 +79,8 @@ def block_sum(typingctx: Any, models: Any, inputs: Any, act: Any, K: Any, block:
 def block_sum_near(typingctx: Any, models: Any, inputs: Any, act: Any, nearby: Any, block: Any) -> Any:
     """:func:`block_sum` over the prototypes listed in ``nearby`` only: k = nearby[1 + t], t < nearby[0].
 
+    Their inputs u_k side by side in the list's order: ``inputs[j, t]`` (``act[t]`` likewise).
+
     The sums of a truncated map (:func:`~gb_pin.learn.llm_kernels.llm_predict` with a cutoff), in
     the order of the list (increasing k).
     """
@@ -119,12 +121,12 @@ def _sum_codegen(indexed: bool) -> Any:
                 base = builder.add(builder.mul(k, a.stride), offset)
                 y = builder.load(_vector_at(builder, a.models, base), align=8)
                 for j in range(inputs_n or 0):
-                    y = builder.fadd(y, _product(builder, a, base, ir.Constant(k.type, j), k))
+                    y = builder.fadd(y, _product(builder, a, base, ir.Constant(k.type, j), loop_k.index))
                 if inputs_n is None:
                     local = cgutils.alloca_once_value(builder, y)
                     count_j = builder.sub(a.columns, ir.Constant(a.columns.type, 1))
                     with cgutils.for_range(builder, count_j) as loop_j:
-                        step = _product(builder, a, base, loop_j.index, k)
+                        step = _product(builder, a, base, loop_j.index, loop_k.index)
                         builder.store(builder.fadd(builder.load(local), step), local)
                     y = builder.load(local)
                 b = builder.load(builder.gep(a.act, [loop_k.index]))  # act in the loop's order
@@ -167,7 +169,10 @@ def block_update_near(
     scale: Any,
     used: Any,
 ) -> Any:
-    """:func:`block_update` of the prototypes listed in ``nearby`` only (k = nearby[1 + t], t < nearby[0])."""
+    """:func:`block_update` of the prototypes listed in ``nearby`` only (k = nearby[1 + t], t < nearby[0]).
+
+    Their inputs in the list's order, ``inputs[j, t]``, as :func:`block_sum_near` reads them.
+    """
     _check(models, inputs, act)
     _check_index(nearby)
     if not (isinstance(errors, types.Array) and errors.dtype == types.float64 and errors.ndim == 1):
@@ -199,11 +204,11 @@ def _update_codegen(indexed: bool) -> Any:
                 ce = builder.fmul(_splat(builder, c), e)
                 add(_vector_at(builder, a.models, base), ce)
                 for j in range(inputs_n or 0):
-                    _update_column(builder, a, base, ir.Constant(k.type, j), k, ce, add)
+                    _update_column(builder, a, base, ir.Constant(k.type, j), loop_k.index, ce, add)
                 if inputs_n is None:
                     count_j = builder.sub(a.columns, ir.Constant(a.columns.type, 1))
                     with cgutils.for_range(builder, count_j) as loop_j:
-                        _update_column(builder, a, base, loop_j.index, k, ce, add)
+                        _update_column(builder, a, base, loop_j.index, loop_k.index, ce, add)
 
         _by_input_count(builder, a, body)
         return context.get_dummy_value()
@@ -218,21 +223,21 @@ def _column(builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value) -> i
     )
 
 
-def _input(builder: ir.IRBuilder, a: _Arrays, j: ir.Value, k: ir.Value) -> ir.Value:
-    """u_kj = ``inputs[j, k]``, in every lane."""
-    return _splat(builder, builder.load(builder.gep(a.inputs, [builder.add(builder.mul(j, a.row), k)])))
+def _input(builder: ir.IRBuilder, a: _Arrays, j: ir.Value, t: ir.Value) -> ir.Value:
+    """u_kj = ``inputs[j, t]`` (t the loop's index: k, or the place of k in the list), in every lane."""
+    return _splat(builder, builder.load(builder.gep(a.inputs, [builder.add(builder.mul(j, a.row), t)])))
 
 
-def _product(builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value, k: ir.Value) -> ir.Value:
-    """Column j of W_k times u_kj (W first, as in the scalar loops)."""
-    return builder.fmul(builder.load(_column(builder, a, base, j), align=8), _input(builder, a, j, k))
+def _product(builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value, t: ir.Value) -> ir.Value:
+    """Column j of W_k times u_kj = inputs[j, t] (W first, as in the scalar loops)."""
+    return builder.fmul(builder.load(_column(builder, a, base, j), align=8), _input(builder, a, j, t))
 
 
 def _update_column(
-    builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value, k: ir.Value, ce: ir.Value, add: Any
+    builder: ir.IRBuilder, a: _Arrays, base: ir.Value, j: ir.Value, t: ir.Value, ce: ir.Value, add: Any
 ) -> None:
-    """Column j of W_k += ce * u_kj."""
-    add(_column(builder, a, base, j), builder.fmul(ce, _input(builder, a, j, k)))
+    """Column j of W_k += ce * u_kj, u_kj = inputs[j, t]."""
+    add(_column(builder, a, base, j), builder.fmul(ce, _input(builder, a, j, t)))
 
 
 def _by_input_count(builder: ir.IRBuilder, a: _Arrays, body: Any) -> None:

@@ -44,7 +44,8 @@ class Condition(NamedTuple):
     @property
     def key(self) -> str:
         """The cache file's name: robot, fraction, seed and a hash of every setting that changes numbers."""
-        settings = json.dumps([*self, SNAPSHOTS, "v4"])  # v2: learning rate 0.5; v3: parts=auto; v4: cutoff 4
+        # v2: rate 0.5; v3: parts=auto; v4, v5: cutoff 4, 3; v6: the noise walk by redundant joints
+        settings = json.dumps([*self, SNAPSHOTS, "v6"])
         digest = hashlib.sha256(settings.encode()).hexdigest()[:12]
         return f"{self.robot.replace(':', '_')}_f{self.fraction:g}_s{self.seed}_{digest}"
 
