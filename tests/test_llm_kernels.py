@@ -256,3 +256,26 @@ def test_the_simd_minimum_and_list_of_prototypes_within_a_limit_are_the_plain_lo
             expected = [k for k in range(K) if sq[k] <= limit]
             assert count == len(expected), (K, limit)
             assert near[1 : 1 + count].tolist() == expected and near[0] == -7, (K, limit)
+
+
+def test_the_list_falls_back_to_the_scalar_loop_where_llvm_lacks_the_compress(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """An LLVM before 19 has no vector compress: list_within then compiles the scalar loop, same list."""
+    from numba import njit
+
+    from gb_pin.learn import llm_list
+
+    monkeypatch.setattr(llm_list, "COMPRESS", False)
+
+    @njit(cache=False)
+    def scalar(sq, limit, K, near):  # type: ignore[no-untyped-def]
+        return llm_list.list_within(sq, limit, K, near)
+
+    rng = np.random.default_rng(4)
+    for K in (0, 7, 8, 9, 100):
+        sq = rng.uniform(0.0, 30.0, K)
+        near = np.zeros(K + 1, dtype=np.int64)
+        count = scalar(sq, 9.0, K, near)
+        assert near[1 : 1 + count].tolist() == [k for k in range(K) if sq[k] <= 9.0]
+    assert "vector.compress" not in "".join(scalar.inspect_llvm().values())
