@@ -151,6 +151,8 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
         "reach_mm": 1000 * float(result.history.reach[-1]),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
         "contacts": int(plant.contacts) if checked and not kinematic else None, "wall_s": wall,
+        "contact_pairs": None if not checked or kinematic else
+            [[a, b, steps, deepest] for (a, b), (steps, deepest) in plant.contact_pairs.items()],
         "checks": None if not checked else int(session.guard.checks),  # type: ignore[union-attr]
     }  # fmt: skip
 

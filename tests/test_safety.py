@@ -176,12 +176,15 @@ def test_mujoco_plant_with_contacts_agrees_with_the_checker_and_counts_no_contac
                            targets=so101_goals())  # fmt: skip
     assert result.checked_asks == 5 * 25
     assert plant.collision.asks == 5 * 25  # the plant's own checker served the run
-    assert plant.contacts == 0
+    assert plant.contacts == 0 and plant.contact_pairs == {}
     into_table = next(
         q for q in postures if not checker.is_safe(q) and checker.contacts(q)[0][1] == "obstacle_0"
     )
     plant.forward(into_table)  # unchecked: the arm hits the table
     assert plant.contacts > 0
+    pairs = plant.contact_pairs  # which geoms touched, in how many steps, how deep
+    assert sum(steps for steps, _ in pairs.values()) == plant.contacts
+    assert any("obstacle_0" in a + b for a, b in pairs) and all(depth >= 0.0 for _, depth in pairs.values())
 
 
 @pytest.mark.slow  # one of the heaviest in CPU time (issue 35): not in -m 'not slow'

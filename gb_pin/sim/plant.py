@@ -166,7 +166,7 @@ class MujocoPlant(FunctionTarget):
                 self.target, obstacles or (), self_collision=self_collision, geometry=collision_geometry,
                 clearance=clearance,
             )  # fmt: skip
-        self._contacts: list[int] | None = None if self.collision is None else [0]
+        self._contacts: list[Any] | None = None if self.collision is None else [0, {}]
         self.text = mjcf(self.target, self.servos, gravity=self.gravity, timestep=self.timestep,
                          name=self.target.name, collision=self.collision)  # fmt: skip
         self.mj_model = mujoco.MjModel.from_xml_string(self.text)
@@ -253,6 +253,7 @@ class MujocoPlant(FunctionTarget):
         self.steps = 0
         if self._contacts is not None:
             self._contacts[0] = 0
+            self._contacts[1] = {}
 
     @property
     def contacts(self) -> int:
@@ -261,11 +262,28 @@ class MujocoPlant(FunctionTarget):
         Raises:
             InvalidArgumentError: the plant was built without collision geometry (contacts off).
         """
+        return int(self._counted()[0])
+
+    @property
+    def contact_pairs(self) -> dict[tuple[str, str], tuple[int, float]]:
+        """Which geoms touched: (geom name, geom name) -> (simulation steps in contact, deepest [m]).
+
+        Raises:
+            InvalidArgumentError: the plant was built without collision geometry (contacts off).
+        """
+        name = self._mj.mj_id2name
+        kind = self._mj.mjtObj.mjOBJ_GEOM
+        return {
+            (name(self.mj_model, kind, a) or str(a), name(self.mj_model, kind, b) or str(b)): value
+            for (a, b), value in sorted(self._counted()[1].items())
+        }
+
+    def _counted(self) -> list[Any]:
         if self._contacts is None:
             raise InvalidArgumentError(
                 "contacts are off: build the plant with obstacles= or self_collision=True"
             )
-        return self._contacts[0]
+        return self._contacts
 
     def forward(self, q: ArrayLike) -> NDArray[np.float64] | None:  # type: ignore[override]
         """One ask: command ``q`` (m,), simulate by the settling rule, read the task vector (n,) [m].

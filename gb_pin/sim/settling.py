@@ -109,12 +109,24 @@ class Settling:
         return done
 
     def _hold_counting(self, mujoco: Any, model: Any, data: Any, contacts: Any, most: int, every: int) -> int:
-        """:meth:`hold` one step at a time, adding each step's contacts to ``contacts[0]``."""
+        """:meth:`hold` one step at a time, adding each step's contacts to ``contacts[0]``.
+
+        With a second entry (a dict), each touching pair of geoms ``(geom1, geom2)`` maps to (steps in
+        contact, deepest penetration [m]).
+        """
         speed = math.inf if self.tolerance is None else self.tolerance
         accel = math.inf if self.tolerance is None else self.tolerance / REST_TIME
         for done in range(1, most + 1):
             mujoco.mj_step(model, data)
-            contacts[0] += int(data.ncon)
+            touching = int(data.ncon)
+            if touching:
+                contacts[0] += touching
+                if len(contacts) > 1:  # which geoms touched, in how many steps, how deep
+                    for i in range(touching):
+                        c = data.contact[i]
+                        key = (int(c.geom1), int(c.geom2))
+                        steps, deepest = contacts[1].get(key, (0, 0.0))
+                        contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
             if done % every == 0 and np.abs(data.qvel).max() < speed and np.abs(data.qacc).max() < accel:
                 return done
         return most
