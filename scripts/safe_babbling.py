@@ -122,7 +122,9 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
         }  # fmt: skip
     options = {"obstacles": scene.obstacles, "self_collision": True} if checked else {}
     plant: Any = (
-        KinematicPlant(scene.robot) if kinematic else MujocoPlant(scene.robot, kp=scene.kp, **options)
+        KinematicPlant(scene.robot)
+        if kinematic
+        else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **options)
     )
     robot = plant.target if kinematic else plant
     session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **options)

@@ -212,3 +212,49 @@ def test_a_missing_mujoco_is_one_line_naming_the_extra(monkeypatch: pytest.Monke
     with pytest.raises(SimulationError, match=r"pip install 'gb_pin\[sim\]'") as info:
         MujocoPlant("so101")
     assert "\n" not in str(info.value)
+
+
+def _joint_speeds_while(plant: MujocoPlant, q: np.ndarray) -> list[float]:
+    """The fastest joint's speed after each MuJoCo step while the plant answers the ask ``q``."""
+    speeds: list[float] = []
+    step = plant._mj.mj_step
+
+    class Recording:  # MuJoCo as the plant calls it
+        def __getattr__(self, name: str) -> object:
+            return getattr(mujoco, name)
+
+        def mj_step(self, model: object, data: object, n: int = 1) -> None:
+            for _ in range(n):
+                step(model, data)
+                speeds.append(float(np.abs(plant.mj_data.qvel[plant._dofs]).max()))
+
+    plant._mj = Recording()
+    plant.forward(q)
+    return speeds
+
+
+def test_a_plant_with_a_speed_moves_its_servo_targets_along_each_asks_segment_at_that_speed() -> None:
+    """speed: the servo targets move along the segment from the last command, the arm as fast as told.
+
+    The stiff Panda (kp 3000) told to jump 0.5 rad in joint 2 at once swings at several rad/s; with
+    its targets moving at 1 rad/s it moves at about that. It ends at the same resting posture.
+    """
+    fastest = {}
+    ends = {}
+    for speed in (None, 1.0):
+        plant = MujocoPlant("panda", kp=3000.0, speed=speed)
+        b = plant.home.copy()
+        b[1] -= 0.5
+        b[3] += 0.3
+        speeds = _joint_speeds_while(plant, b)
+        fastest[speed] = max(speeds)
+        ends[speed] = plant.mj_data.qpos[plant._dofs].copy()
+        if speed is not None:
+            assert plant.steps >= 0.5 / (speed * plant.timestep) - 1  # the ramp took its time
+    assert fastest[1.0] < 1.5 and fastest[None] > 3.0, fastest
+    np.testing.assert_allclose(ends[1.0], ends[None], atol=2e-3)
+    assert MujocoPlant.from_spec("panda@mujoco:kp=3000,speed=1").speed == 1.0
+    assert MujocoPlant("panda", kp=3000.0, speed=1.0).spec == "panda@mujoco:kp=3000.0,speed=1.0"
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(InvalidArgumentError, match="speed"):
+            MujocoPlant("panda", speed=bad)

@@ -30,6 +30,7 @@ checkpoints (:mod:`gb_pin.sim.snapshot`), so a resumed session continues bit-ide
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -48,7 +49,7 @@ from gb_pin.sim.servos import Servos, short
 
 if TYPE_CHECKING:
     from gb_pin.sim.camera import PlantCamera
-from gb_pin.sim.settling import Settling
+from gb_pin.sim.settling import Settling, count_contacts
 from gb_pin.sim.spec import spec_of, split_spec
 
 
@@ -83,6 +84,11 @@ class MujocoPlant(FunctionTarget):
             the checker checks (``self_collision``: the collision matrix's), counted in
             :attr:`contacts`. The plant's ``collision`` is that checker (``clearance`` is its margin;
             MuJoCo's contacts have none). Default: no geometry, contacts off.
+        speed: move each ask's servo targets along the straight joint-space segment from the last
+            command, the joint that moves most at this speed [rad/s], then settle; None (default):
+            the targets jump to the ask at once. The collision check of an ask covers that segment
+            (:mod:`gb_pin.safety`); a jump of a stiff arm's servos does not follow it (the Panda, kp
+            3000, 0.5 rad at once: the hand 1 cm off the segment, docs/SAFETY.md).
 
     Attributes:
         target: the kinematic robot it was built from (its URDF kinematics: exact IK runs on it).
@@ -131,6 +137,7 @@ class MujocoPlant(FunctionTarget):
         self_collision: bool = False,
         collision_geometry: str = "urdf",
         clearance: float = 0.01,
+        speed: float | None = None,
     ) -> None:
         mujoco = require_mujoco()
         self._mj = mujoco
@@ -139,7 +146,7 @@ class MujocoPlant(FunctionTarget):
         given = {
             "kp": kp, "damping": damping, "force_limit": force_limit, "armature": armature,
             "gravity": gravity, "settle": settle, "tolerance": tolerance, "period": period,
-            "timestep": timestep, "noise": noise, "loss": loss, "seed": seed,
+            "timestep": timestep, "noise": noise, "loss": loss, "seed": seed, "speed": speed,
         }  # fmt: skip
         m = self.target.n_joints
         self.servos = Servos.of(m, kp, damping, force_limit, armature)
@@ -156,6 +163,7 @@ class MujocoPlant(FunctionTarget):
         health.hold_steps("period" if self.settling.tolerance is None else "settle", self.settling.time,
                           self.timestep)  # fmt: skip
         self.seed = check.positive_int("seed", seed, 0, 2**63 - 1)
+        self.speed = None if speed is None else check.positive_float("speed", speed)
         self.tracker = Sensor(noise, loss, np.random.default_rng(self.seed))
         self.tracker.std(self.target.n_task)  # a per-axis noise of the wrong length is refused now
         self.collision: Any = None
@@ -178,7 +186,8 @@ class MujocoPlant(FunctionTarget):
         self._body = self.target.chain.kernel()
         self._x = np.empty(self.target.n_task)
         self._state_kind = mujoco.mjtState.mjSTATE_INTEGRATION
-        self._settings = snapshot.digest(self.text, repr(self.settling), repr(self.tracker))
+        ramp = () if self.speed is None else (f"speed={self.speed!r}",)  # (a jump: the digest as before)
+        self._settings = snapshot.digest(self.text, repr(self.settling), repr(self.tracker), *ramp)
         label = name or f"{self.target.name} in MuJoCo (kp {short(self.servos.kp)})"
         super().__init__(
             self.true_forward, self.target.home, lower=self.target.lower, upper=self.target.upper,
@@ -378,11 +387,26 @@ class MujocoPlant(FunctionTarget):
 
     def move(self, q: ArrayLike) -> None:
         """Command ``q`` (m,) and simulate by the settling rule, reading nothing (a camera reads after)."""
-        self.mj_data.ctrl[:] = check.vector("q", q, self.n_joints)
+        q = check.vector("q", q, self.n_joints)
         before = health.warnings_seen(self._mj, self.mj_data)
+        if self.speed is not None:
+            self.steps += self._ramp(q)
+        self.mj_data.ctrl[:] = q
         self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data, self._contacts)
         self.asks += 1
         health.check_state(self._mj, self.mj_data, before, self._describe(), f"ask {self.asks}")
+
+    def _ramp(self, q: NDArray[np.float64]) -> int:
+        """Servo targets from the last command to ``q`` on a straight line at :attr:`speed`; the steps."""
+        start = self.mj_data.ctrl.copy()
+        step = self.speed * self.timestep  # type: ignore[operator]
+        count = math.ceil(float(np.abs(q - start).max()) / step)
+        for i in range(1, count):  # the last target, q itself, is the settling's
+            self.mj_data.ctrl[:] = start + (q - start) * (i / count)
+            self._mj.mj_step(self.mj_model, self.mj_data)
+            if self._contacts is not None:
+                count_contacts(self.mj_data, self._contacts)
+        return max(count - 1, 0)
 
     def render(self) -> NDArray[np.uint8]:
         """The camera's picture of the arm now (H, W, 3) uint8 RGB, without noise.

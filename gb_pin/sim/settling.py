@@ -35,6 +35,23 @@ CHECK_PERIOD = 0.01
 """Seconds between the checks of the rule (the servos run at every step in between)."""
 
 
+def count_contacts(data: Any, contacts: list[Any]) -> None:
+    """Add this step's contacts to ``contacts[0]``; with a dict in ``contacts[1]``, which pairs and how deep.
+
+    ``contacts[1][(geom1, geom2)]`` = (steps in contact, deepest penetration [m]).
+    """
+    touching = int(data.ncon)
+    if not touching:
+        return
+    contacts[0] += touching
+    if len(contacts) > 1:
+        for i in range(touching):
+            c = data.contact[i]
+            key = (int(c.geom1), int(c.geom2))
+            steps, deepest = contacts[1].get(key, (0, 0.0))
+            contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
+
+
 @dataclass(frozen=True)
 class Settling:
     """When a held posture is read.
@@ -118,15 +135,7 @@ class Settling:
         accel = math.inf if self.tolerance is None else self.tolerance / REST_TIME
         for done in range(1, most + 1):
             mujoco.mj_step(model, data)
-            touching = int(data.ncon)
-            if touching:
-                contacts[0] += touching
-                if len(contacts) > 1:  # which geoms touched, in how many steps, how deep
-                    for i in range(touching):
-                        c = data.contact[i]
-                        key = (int(c.geom1), int(c.geom2))
-                        steps, deepest = contacts[1].get(key, (0, 0.0))
-                        contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
+            count_contacts(data, contacts)
             if done % every == 0 and np.abs(data.qvel).max() < speed and np.abs(data.qacc).max() < accel:
                 return done
         return most

@@ -36,6 +36,7 @@ OPTIONS: dict[str, type] = {
     "noise": float,
     "loss": float,
     "seed": int,
+    "speed": float,
 }
 """The plant's options a string may set, and their types."""
 _TRUE, _FALSE = ("on", "true", "yes", "1"), ("off", "false", "no", "0")
