@@ -78,3 +78,23 @@ def contact_xml(checker: Any) -> tuple[dict[int, list[str]], list[str], list[str
         for p in gm.collisionPairs
     ]
     return geoms, meshes, pairs
+
+
+def named_pairs(mujoco: Any, model: Any, pairs: dict[tuple[int, int], Any]) -> dict[tuple[str, str], Any]:
+    """``pairs`` keyed by geom ids, keyed by the geoms' names instead (the id where a geom has none)."""
+    name, kind = mujoco.mj_id2name, mujoco.mjtObj.mjOBJ_GEOM
+    return {
+        (name(model, kind, a) or str(a), name(model, kind, b) or str(b)): value
+        for (a, b), value in sorted(pairs.items())
+    }
+
+
+def counted(contacts: list[Any] | None) -> list[Any]:
+    """A plant's contact counts ``[total, pairs]``; a plant without collision geometry is refused.
+
+    Raises:
+        InvalidArgumentError: contacts are off.
+    """
+    if contacts is None:
+        raise InvalidArgumentError("contacts are off: build the plant with obstacles= or self_collision=True")
+    return contacts

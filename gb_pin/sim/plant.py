@@ -30,7 +30,6 @@ checkpoints (:mod:`gb_pin.sim.snapshot`), so a resumed session continues bit-ide
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -49,7 +48,8 @@ from gb_pin.sim.servos import Servos, short
 
 if TYPE_CHECKING:
     from gb_pin.sim.camera import PlantCamera
-from gb_pin.sim.settling import Settling, count_contacts
+from gb_pin.sim.contacts import counted, named_pairs
+from gb_pin.sim.settling import Settling, ramp
 from gb_pin.sim.spec import spec_of, split_spec
 
 
@@ -84,11 +84,8 @@ class MujocoPlant(FunctionTarget):
             the checker checks (``self_collision``: the collision matrix's), counted in
             :attr:`contacts`. The plant's ``collision`` is that checker (``clearance`` is its margin;
             MuJoCo's contacts have none). Default: no geometry, contacts off.
-        speed: move each ask's servo targets along the straight joint-space segment from the last
-            command, the joint that moves most at this speed [rad/s], then settle; None (default):
-            the targets jump to the ask at once. The collision check of an ask covers that segment
-            (:mod:`gb_pin.safety`); a jump of a stiff arm's servos does not follow it (the Panda, kp
-            3000, 0.5 rad at once: the hand 1 cm off the segment, docs/SAFETY.md).
+        speed: the servo targets travel each ask's joint-space segment at this speed [rad/s], as
+            checked (:func:`gb_pin.sim.settling.ramp`; docs/SAFETY.md); None: they jump to the ask.
 
     Attributes:
         target: the kinematic robot it was built from (its URDF kinematics: exact IK runs on it).
@@ -261,8 +258,7 @@ class MujocoPlant(FunctionTarget):
         self.asks = 0
         self.steps = 0
         if self._contacts is not None:
-            self._contacts[0] = 0
-            self._contacts[1] = {}
+            self._contacts[:] = [0, {}]
 
     @property
     def contacts(self) -> int:
@@ -271,7 +267,7 @@ class MujocoPlant(FunctionTarget):
         Raises:
             InvalidArgumentError: the plant was built without collision geometry (contacts off).
         """
-        return int(self._counted()[0])
+        return int(counted(self._contacts)[0])
 
     @property
     def contact_pairs(self) -> dict[tuple[str, str], tuple[int, float]]:
@@ -280,19 +276,7 @@ class MujocoPlant(FunctionTarget):
         Raises:
             InvalidArgumentError: the plant was built without collision geometry (contacts off).
         """
-        name = self._mj.mj_id2name
-        kind = self._mj.mjtObj.mjOBJ_GEOM
-        return {
-            (name(self.mj_model, kind, a) or str(a), name(self.mj_model, kind, b) or str(b)): value
-            for (a, b), value in sorted(self._counted()[1].items())
-        }
-
-    def _counted(self) -> list[Any]:
-        if self._contacts is None:
-            raise InvalidArgumentError(
-                "contacts are off: build the plant with obstacles= or self_collision=True"
-            )
-        return self._contacts
+        return named_pairs(self._mj, self.mj_model, counted(self._contacts)[1])
 
     def forward(self, q: ArrayLike) -> NDArray[np.float64] | None:  # type: ignore[override]
         """One ask: command ``q`` (m,), simulate by the settling rule, read the task vector (n,) [m].
@@ -390,23 +374,11 @@ class MujocoPlant(FunctionTarget):
         q = check.vector("q", q, self.n_joints)
         before = health.warnings_seen(self._mj, self.mj_data)
         if self.speed is not None:
-            self.steps += self._ramp(q)
+            self.steps += ramp(self._mj, self.mj_model, self.mj_data, q, self.speed, self._contacts)
         self.mj_data.ctrl[:] = q
         self.steps += self.settling.hold(self._mj, self.mj_model, self.mj_data, self._contacts)
         self.asks += 1
         health.check_state(self._mj, self.mj_data, before, self._describe(), f"ask {self.asks}")
-
-    def _ramp(self, q: NDArray[np.float64]) -> int:
-        """Servo targets from the last command to ``q`` on a straight line at :attr:`speed`; the steps."""
-        start = self.mj_data.ctrl.copy()
-        step = self.speed * self.timestep  # type: ignore[operator]
-        count = math.ceil(float(np.abs(q - start).max()) / step)
-        for i in range(1, count):  # the last target, q itself, is the settling's
-            self.mj_data.ctrl[:] = start + (q - start) * (i / count)
-            self._mj.mj_step(self.mj_model, self.mj_data)
-            if self._contacts is not None:
-                count_contacts(self.mj_data, self._contacts)
-        return max(count - 1, 0)
 
     def render(self) -> NDArray[np.uint8]:
         """The camera's picture of the arm now (H, W, 3) uint8 RGB, without noise.

@@ -52,6 +52,22 @@ def count_contacts(data: Any, contacts: list[Any]) -> None:
             contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
 
 
+def ramp(mujoco: Any, model: Any, data: Any, q: Any, speed: float, contacts: Any = None) -> int:
+    """Move the servo targets from the last command to ``q`` on a straight line at ``speed``; the steps.
+
+    The joint that moves most at ``speed`` [rad/s], a target per MuJoCo step; the last target, ``q``
+    itself, is left to the settling rule. ``contacts``: counted as :meth:`Settling.hold` counts them.
+    """
+    start = data.ctrl.copy()
+    count = math.ceil(float(np.abs(q - start).max()) / (speed * float(model.opt.timestep)))
+    for i in range(1, count):
+        data.ctrl[:] = start + (q - start) * (i / count)
+        mujoco.mj_step(model, data)
+        if contacts is not None:
+            count_contacts(data, contacts)
+    return max(count - 1, 0)
+
+
 @dataclass(frozen=True)
 class Settling:
     """When a held posture is read.
