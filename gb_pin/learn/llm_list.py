@@ -62,25 +62,17 @@ def smallest(typingctx: Any, sq: Any, K: Any) -> Any:
         data = context.make_array(signature.args[0])(context, builder, args[0]).data
         count_k = args[1]
         width = ir.Constant(_I64, WIDTH)
-        inf = ir.Constant(_DOUBLE, float("inf"))
         least = cgutils.alloca_once_value(builder, ir.Constant(_VEC_D, [float("inf")] * WIDTH))
         blocks = builder.sdiv(count_k, width)
         with cgutils.for_range(builder, blocks) as loop:
             ptr = builder.bitcast(builder.gep(data, [builder.mul(loop.index, width)]), _VEC_D.as_pointer())
             v = builder.load(ptr, align=8)
-            m = builder.load(least)
-            builder.store(builder.select(builder.fcmp_ordered("<", v, m), v, m), least)
-        vector = builder.load(least)
-        result = cgutils.alloca_once_value(builder, inf)
-        for lane in range(WIDTH):
-            a = builder.extract_element(vector, ir.Constant(ir.IntType(32), lane))
-            s = builder.load(result)
-            builder.store(builder.select(builder.fcmp_ordered("<", a, s), a, s), result)
+            _keep_smaller(builder, v, least)
+        result = _fold_lanes(builder, builder.load(least))
         start = builder.mul(blocks, width)
         with cgutils.for_range_slice(builder, start, count_k, ir.Constant(_I64, 1), inc=True) as (k, _):
             a = builder.load(builder.gep(data, [k]))
-            s = builder.load(result)
-            builder.store(builder.select(builder.fcmp_ordered("<", a, s), a, s), result)
+            _keep_smaller(builder, a, result)
         return builder.load(result)
 
     return sig, codegen
@@ -125,20 +117,13 @@ def distances_smallest(typingctx: Any, x: Any, P: Any, inv: Any, sq: Any, K: Any
 
             v = squared(load_vec, lambda value: _splat(builder, value, _VEC_D))
             builder.store(v, builder.bitcast(builder.gep(sq_data, [base]), _VEC_D.as_pointer()), align=8)
-            m = builder.load(least)
-            builder.store(builder.select(builder.fcmp_ordered("<", v, m), v, m), least)
-        vector = builder.load(least)
-        result = cgutils.alloca_once_value(builder, ir.Constant(_DOUBLE, float("inf")))
-        for lane in range(WIDTH):
-            a = builder.extract_element(vector, ir.Constant(ir.IntType(32), lane))
-            r = builder.load(result)
-            builder.store(builder.select(builder.fcmp_ordered("<", a, r), a, r), result)
+            _keep_smaller(builder, v, least)
+        result = _fold_lanes(builder, builder.load(least))
         start = builder.mul(blocks, width)
         with cgutils.for_range_slice(builder, start, count_k, ir.Constant(_I64, 1), inc=True) as (k, _):
             a = squared(lambda row: builder.load(builder.gep(row, [k])), lambda value: value)
             builder.store(a, builder.gep(sq_data, [k]))
-            r = builder.load(result)
-            builder.store(builder.select(builder.fcmp_ordered("<", a, r), a, r), result)
+            _keep_smaller(builder, a, result)
         return builder.load(result)
 
     return sig, codegen
@@ -196,6 +181,20 @@ def list_within(typingctx: Any, sq: Any, limit: Any, K: Any, near: Any) -> Any:
         return builder.load(count)
 
     return sig, codegen
+
+
+def _keep_smaller(builder: ir.IRBuilder, value: ir.Value, least: ir.Value) -> None:
+    """``*least = value < *least ? value : *least`` (lane-wise for vectors; a NaN never enters)."""
+    m = builder.load(least)
+    builder.store(builder.select(builder.fcmp_ordered("<", value, m), value, m), least)
+
+
+def _fold_lanes(builder: ir.IRBuilder, vector: ir.Value) -> ir.Value:
+    """A pointer to the smallest lane of ``vector`` (from inf, lane by lane with :func:`_keep_smaller`)."""
+    result = cgutils.alloca_once_value(builder, ir.Constant(_DOUBLE, float("inf")))
+    for lane in range(WIDTH):
+        _keep_smaller(builder, builder.extract_element(vector, ir.Constant(ir.IntType(32), lane)), result)
+    return result
 
 
 def _splat(builder: ir.IRBuilder, value: ir.Value, vector: ir.VectorType) -> ir.Value:
