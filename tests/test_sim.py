@@ -119,17 +119,26 @@ def test_same_seed_same_readings_and_true_forward_moves_nothing() -> None:
     assert 0.0015 < np.std(noise) < 0.0025  # N(0, 2 mm) on ~84 axes: +- 3 sd of the estimate
 
 
-def test_the_state_round_trip_continues_bit_identical() -> None:
-    """robot_state() then set_robot_state(): the arm and the sensor continue as if never stopped."""
-    a = MujocoPlant("so101", period=0.03, noise=0.001, loss=0.2, seed=1)
+@pytest.mark.parametrize("speed", [None, 2.0])
+def test_the_state_round_trip_continues_bit_identical(speed: float | None) -> None:
+    """robot_state() then set_robot_state(): the arm and the sensor continue as if never stopped.
+
+    With a ``speed`` the next ask's ramp starts from the last command, which the saved state holds.
+    """
+    a = MujocoPlant("so101", period=0.03, noise=0.001, loss=0.2, seed=1, speed=speed)
     Q = _random_postures(a, 12, seed=5) * 0.3 + 0.7 * a.home
     a.forward(Q[:6])
     saved = a.robot_state()
     rest = a.forward(Q[6:])
-    b = MujocoPlant("so101", period=0.03, noise=0.001, loss=0.2, seed=1)
+    b = MujocoPlant("so101", period=0.03, noise=0.001, loss=0.2, seed=1, speed=speed)
     b.set_robot_state(saved)
     np.testing.assert_array_equal(b.forward(Q[6:]), rest)
     assert (b.asks, b.steps) == (a.asks, a.steps)
+    if speed is not None:
+        jump = MujocoPlant("so101", period=0.03, noise=0.001, loss=0.2, seed=1)
+        with pytest.raises(InvalidArgumentError, match="other settings"):
+            jump.set_robot_state(saved)  # a ramp's state is not a jump's
+        return
     other = MujocoPlant("so101", period=0.04, noise=0.001, loss=0.2, seed=1)
     with pytest.raises(InvalidArgumentError, match="other settings"):
         other.set_robot_state(saved)

@@ -63,6 +63,30 @@ def test_a_plant_string_is_the_plant_with_its_presets_learner_settings() -> None
         gb_pin.babble("so101@mujoco:kq=3", movements=1)
 
 
+def test_a_plant_with_a_speed_resumes_its_ramps_bit_identical(tmp_path: Path) -> None:
+    """Killed after a checkpoint and resumed on a fresh plant with the same ``speed``: the same run.
+
+    The ramp of the first ask after the resume starts from the last command, which the checkpoint's
+    plant state holds (a fresh plant's would start from home).
+    """
+    whole_plant = _plant(speed=2.0)
+    whole = gb_pin.babble_session(whole_plant, movements=30, seed=6)
+    _drive(whole, whole_plant)
+    path = tmp_path / "ramp.ckpt"
+    first = _plant(speed=2.0)
+    part = gb_pin.babble_session(first, movements=30, seed=6, checkpoint=path, checkpoint_every=10)
+    _drive(part, first, stop=15)
+    part.close()
+    fresh = _plant(speed=2.0)
+    again = resume_session(path, robot=fresh)
+    assert again.movements == 10
+    _drive(again, fresh)
+    _same(whole.result(), again.result())
+    assert (fresh.asks, fresh.steps) == (whole_plant.asks, whole_plant.steps)
+    with pytest.raises(ResultFileError, match="other settings"):
+        resume_session(path, robot=_plant())  # the same plant without its speed
+
+
 def test_a_sessions_checkpoint_holds_the_plant_and_resumes_bit_identical(tmp_path: Path) -> None:
     """Stopped at 20 of 50 movements and resumed on a fresh plant: the same run as without the stop."""
     whole_plant = _plant()
