@@ -102,10 +102,14 @@ def safe_error(result, forward, scene) -> float:  # type: ignore[no-untyped-def]
     return 1000 * float(np.mean(np.linalg.norm(np.asarray(forward(Q)) - X, axis=1)))
 
 
-def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False) -> dict:  # type: ignore[no-untyped-def]
+def run(
+    scene: Any, seed: int, movements: int, checked: bool, kinematic: bool = False, contacts: bool = True
+) -> dict:
     """One run of a scene in the MuJoCo plant: checked (contacts on) or the baseline; its figures.
 
-    ``kinematic``: on the kinematic robot instead (no physics, no contacts counted).
+    ``kinematic``: on the kinematic robot instead (no physics, no contacts counted). ``contacts``
+    False: the checked run in the baseline's plant (contacts off, none counted): what the checks
+    cost the learning, without MuJoCo's collision detection that verifies them.
     """
     if kinematic and not checked:
         target = gb_pin.load_robot(scene.robot)
@@ -124,7 +128,7 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
     plant: Any = (
         KinematicPlant(scene.robot)
         if kinematic
-        else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **options)
+        else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **(options if contacts else {}))
     )
     robot = plant.target if kinematic else plant
     session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **options)
@@ -152,8 +156,9 @@ def run(scene, seed: int, movements: int, checked: bool, kinematic: bool = False
         **per_goal(result, robot.forward if kinematic else plant.true_forward, scene),
         "reach_mm": 1000 * float(result.history.reach[-1]),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
-        "contacts": int(plant.contacts) if checked and not kinematic else None, "wall_s": wall,
-        "contact_pairs": None if not checked or kinematic else
+        "contacts": int(plant.contacts) if checked and not kinematic and contacts else None,
+        "wall_s": wall, "contacts_on": checked and not kinematic and contacts,
+        "contact_pairs": None if not checked or kinematic or not contacts else
             [[a, b, steps, deepest] for (a, b), (steps, deepest) in plant.contact_pairs.items()],
         "checks": None if not checked else int(session.guard.checks),  # type: ignore[union-attr]
     }  # fmt: skip
@@ -168,6 +173,11 @@ def main() -> None:
     parser.add_argument("--json", default=None)
     parser.add_argument("--kinematic", action="store_true", help="on the kinematic robot (no physics)")
     parser.add_argument("--cache", default=None, help="a folder: one JSON file per run, runs there skipped")
+    parser.add_argument(
+        "--no-contacts",
+        action="store_true",
+        help="the checked run in the baseline's plant, contacts off: the checks' own cost",
+    )
     parser.add_argument("--reachable-goals", action="store_true",
                         help="babble (both runs) toward the goals a safe posture reaches only")  # fmt: skip
     args = parser.parse_args()
@@ -184,6 +194,8 @@ def main() -> None:
         for seed in args.seeds:
             for checked in (True, False):
                 kind = "kinematic" if args.kinematic else "mujoco"
+                if checked and args.no_contacts and not args.kinematic:
+                    kind = "mujoco_nocontacts"
                 goals = "_reachable" if args.reachable_goals else ""
                 name = (
                     f"{robot}{goals}_{kind}_{args.movements}_{seed}_{'checked' if checked else 'free'}.json"
@@ -193,7 +205,7 @@ def main() -> None:
                     with open(cached) as f:
                         row = json.load(f)
                 else:
-                    row = run(scene, seed, args.movements, checked, args.kinematic)
+                    row = run(scene, seed, args.movements, checked, args.kinematic, not args.no_contacts)
                     if cached:
                         with open(cached + ".tmp", "w") as f:
                             json.dump(row, f)
