@@ -103,13 +103,20 @@ def safe_error(result, forward, scene) -> float:  # type: ignore[no-untyped-def]
 
 
 def run(
-    scene: Any, seed: int, movements: int, checked: bool, kinematic: bool = False, contacts: bool = True
+    scene: Any,
+    seed: int,
+    movements: int,
+    checked: bool,
+    kinematic: bool = False,
+    contacts: bool = True,
+    slide: bool = True,
 ) -> dict:
     """One run of a scene in the MuJoCo plant: checked (contacts on) or the baseline; its figures.
 
     ``kinematic``: on the kinematic robot instead (no physics, no contacts counted). ``contacts``
     False: the checked run in the baseline's plant (contacts off, none counted): what the checks
-    cost the learning, without MuJoCo's collision detection that verifies them.
+    cost the learning, without MuJoCo's collision detection that verifies them. ``slide`` False: a
+    cut ask stops at the last safe posture of its move (``CollisionChecker(slide=False)``).
     """
     if kinematic and not checked:
         target = gb_pin.load_robot(scene.robot)
@@ -134,6 +141,7 @@ def run(
     session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **options)
     independent = None
     if checked:
+        session.guard.slide = slide  # type: ignore[union-attr]
         matrix = session.guard.matrix  # type: ignore[union-attr]
         independent = CollisionChecker(plant.target, scene.obstacles, self_collision=True, clearance=1e-6,
                                        matrix=matrix)  # fmt: skip
@@ -161,6 +169,7 @@ def run(
         "contact_pairs": None if not checked or kinematic or not contacts else
             [[a, b, steps, deepest] for (a, b), (steps, deepest) in plant.contact_pairs.items()],
         "checks": None if not checked else int(session.guard.checks),  # type: ignore[union-attr]
+        "slide": slide,
     }  # fmt: skip
 
 
@@ -178,6 +187,7 @@ def main() -> None:
         action="store_true",
         help="the checked run in the baseline's plant, contacts off: the checks' own cost",
     )
+    parser.add_argument("--stop", action="store_true", help="a cut ask stops at its last safe posture")
     parser.add_argument("--reachable-goals", action="store_true",
                         help="babble (both runs) toward the goals a safe posture reaches only")  # fmt: skip
     args = parser.parse_args()
@@ -196,6 +206,8 @@ def main() -> None:
                 kind = "kinematic" if args.kinematic else "mujoco"
                 if checked and args.no_contacts and not args.kinematic:
                     kind = "mujoco_nocontacts"
+                if checked and args.stop:
+                    kind += "_stop"
                 goals = "_reachable" if args.reachable_goals else ""
                 name = (
                     f"{robot}{goals}_{kind}_{args.movements}_{seed}_{'checked' if checked else 'free'}.json"
@@ -205,7 +217,8 @@ def main() -> None:
                     with open(cached) as f:
                         row = json.load(f)
                 else:
-                    row = run(scene, seed, args.movements, checked, args.kinematic, not args.no_contacts)
+                    contacts, slide = not args.no_contacts, not args.stop
+                    row = run(scene, seed, args.movements, checked, args.kinematic, contacts, slide)
                     if cached:
                         with open(cached + ".tmp", "w") as f:
                             json.dump(row, f)

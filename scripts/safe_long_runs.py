@@ -4,7 +4,7 @@ On the kinematic robot (the checked run steps through the session; the run witho
 compiled loop, the same run bit for bit as its session), E^X on the scene's goals at 10^3, 3 x 10^3,
 5 x 10^3, 10^4, 2 x 10^4, 3 x 10^4 movements (those within ``--movements``):
 
-    python scripts/safe_long_runs.py --robot panda --movements 30000 --seed 0
+    python scripts/safe_long_runs.py --robot panda --movements 30000 --seed 0          # --stop: no slide
 """
 
 from __future__ import annotations
@@ -25,12 +25,14 @@ def main() -> None:
     parser.add_argument("--robot", default="panda", choices=["so101", "panda"])
     parser.add_argument("--movements", type=int, default=30000)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--stop", action="store_true", help="a cut ask stops at its last safe posture")
     args = parser.parse_args()
     scene = {"so101": so101_scene, "panda": panda_scene}[args.robot]()
     target = gb_pin.load_robot(args.robot)
     schedule = [m for m in POINTS if m <= args.movements]
     run = {"movements": args.movements, "seed": args.seed, "targets": scene.goals, "schedule": schedule}
     session = gb_pin.babble_session(target, **run, obstacles=scene.obstacles, self_collision=True)
+    session.guard.slide = not args.stop
     start = time.perf_counter()
     while not session.done:
         session.tell(target.forward(session.ask()))
@@ -41,7 +43,7 @@ def main() -> None:
         "robot": args.robot, "seed": args.seed, "movements": [int(m) for m in checked.history.movements],
         "checked_mm": [round(1000 * float(e), 2) for e in checked.history.error],
         "without_obstacles_mm": [round(1000 * float(e), 2) for e in free.history.error],
-        "asks_cut": session.cuts, "checked_wall_s": round(wall, 1),
+        "asks_cut": session.cuts, "checked_wall_s": round(wall, 1), "slide": not args.stop,
     }))  # fmt: skip
 
 

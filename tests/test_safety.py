@@ -380,6 +380,74 @@ def test_checkpoints_and_results_record_the_obstacles_and_resume_checked(tmp_pat
         assert "\n" not in str(error.value) and "digest" not in str(error.value)
 
 
+def test_slide_false_stops_at_the_cut_and_is_recorded_resumed_and_refused_when_malformed(
+    tmp_path: Path,
+) -> None:
+    """``slide=False``: every cut ask stops on its straight move; files record it; resumes keep it.
+
+    The sliding run (default) writes no ``slide`` key, so its files are as before; a stopping run's
+    checkpoint says ``"slide": False`` and a resume from the file alone stops too, ending bit-identical
+    to the uninterrupted run. A malformed entry, a non-bool option, a preset key and the CLI flag.
+    """
+    from gb_pin.cli.body_options import add_safety_options, safety
+    from gb_pin.exceptions import ResultFileError
+    from gb_pin.runs.spec import RunSpec
+
+    options = dict(obstacles=[Table(0.0), POST], self_collision=True, targets=so101_goals())
+    sliding = gb_pin.babble("so101", movements=6, seed=5, **options)  # type: ignore[arg-type]
+    full = gb_pin.babble("so101", movements=6, seed=5, slide=False, **options)  # type: ignore[arg-type]
+    assert sliding.safety is not None and "slide" not in sliding.safety
+    assert full.safety is not None and full.safety["slide"] is False and full.cut_asks > 0
+    assert not np.array_equal(full.history.error, sliding.history.error)
+    path = tmp_path / "stop.npz"
+    session = gb_pin.babble_session("so101", movements=6, seed=5, slide=False, checkpoint=path,
+                                    checkpoint_every=3, **options)  # type: ignore[arg-type]  # fmt: skip
+    guard, target = session.guard, session.target
+    assert isinstance(guard, CollisionChecker) and guard.slide is False
+    sliding_guard = CollisionChecker(target, [Table(0.0), POST], self_collision=True)
+    stopping = CollisionChecker(target, [Table(0.0), POST], self_collision=True, slide=False)
+    rng = np.random.default_rng(0)
+    home, on_move, off_move = target.home, 0, 0
+    for q_to in rng.uniform(target.lower, target.upper, size=(60, target.n_joints)):
+        stop, slid = stopping(home, q_to), sliding_guard(home, q_to)
+        assert (stop is None) == (slid is None)
+        if stop is not None:  # the stop lies on the straight move, before its end
+            t = float(np.dot(stop - home, q_to - home) / np.dot(q_to - home, q_to - home))
+            assert 0.0 <= t < 1.0 and np.allclose(stop, home + t * (q_to - home), atol=1e-12)
+            on_move += 1
+            off_move += not np.allclose(slid, stop)
+    assert on_move > 0 and off_move > 0  # cuts happened, and sliding went elsewhere
+    while session.movements < 3:
+        session.tell(target.forward(session.ask()))
+    session.close()
+    resumed = gb_pin.resume_session(path)
+    assert isinstance(resumed.guard, CollisionChecker) and resumed.guard.slide is False
+    while not resumed.done:
+        resumed.tell(target.forward(resumed.ask()))
+    result = resumed.result()
+    assert np.array_equal(result.history.error, full.history.error)
+    assert (result.cut_asks, result.safety) == (full.cut_asks, full.safety)
+    resumed.close()
+    from gb_pin.runs.archive import atomic_savez, read_archive
+    from gb_pin.runs.checkpoint import FORMAT_VERSION
+
+    arrays, meta = read_archive(str(path), "checkpoint", "gb_pin.checkpoint", FORMAT_VERSION)
+    meta["safety"] = {**meta["safety"], "slide": "no"}
+    atomic_savez(str(tmp_path / "bad.npz"), arrays, meta, digest=True)
+    with pytest.raises(ResultFileError, match="slide"):
+        gb_pin.resume_session(tmp_path / "bad.npz")
+    with pytest.raises(InvalidArgumentError, match="slide"):
+        RunSpec("so101", 1, 0, slide="no")  # type: ignore[arg-type]
+    assert RunSpec("so101", 1, 0, slide=False, **options).trial_arguments()[3]["slide"] is False
+    assert "slide" not in RunSpec("so101", 1, 0, **options).trial_arguments()[3]
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    add_safety_options(parser)
+    assert safety(parser.parse_args(["--table", "0", "--no-slide"]))["slide"] is False
+    assert "slide" not in safety(parser.parse_args(["--table", "0"]))
+
+
 def plain_box(box: Box) -> dict:
     from gb_pin.safety.obstacles import plain
 

@@ -77,7 +77,10 @@ def add_body_options(b: argparse.ArgumentParser) -> None:
 
 
 def add_safety_options(b: argparse.ArgumentParser) -> None:
-    """``--table``, ``--obstacle``, ``--self-collision``, ``--collision-geometry``, ``--clearance``."""
+    """``--table``, ``--obstacle``, ``--self-collision``, ``--collision-geometry``, ``--clearance``, ...
+
+    ``--no-slide`` too.
+    """
     b.add_argument(
         "--table", type=float, default=None, help="a table top at this height [m]: no ask goes below it"
     )
@@ -100,6 +103,11 @@ def add_safety_options(b: argparse.ArgumentParser) -> None:
     b.add_argument(
         "--clearance", type=float, default=0.01, help="the margin every checked pair keeps [m] (default 0.01)"
     )
+    b.add_argument(
+        "--no-slide",
+        action="store_true",
+        help="a cut ask stops at the last safe posture of its move (default: it slides along the obstacle)",
+    )
 
 
 def safety(args: argparse.Namespace) -> dict[str, Any]:
@@ -115,6 +123,7 @@ def safety(args: argparse.Namespace) -> dict[str, Any]:
         "self_collision": bool(args.self_collision),
         "collision_geometry": args.collision_geometry,
         "clearance": args.clearance,
+        **({"slide": False} if getattr(args, "no_slide", False) else {}),
     }
 
 

@@ -84,7 +84,7 @@ _COMMON_KEYS = (
     "safety",
     *_TASK_KEYS,
 )
-_SAFETY_KEYS = ("obstacles", "self_collision", "collision_geometry", "clearance")
+_SAFETY_KEYS = ("obstacles", "self_collision", "collision_geometry", "clearance", "slide")
 _SOURCE_KEYS = {
     "planar": ("total_length", "min_joints"),
     "example-robot-data": ("robot", "joints"),
@@ -117,7 +117,7 @@ class RobotPreset:
         task: ``task``, ``orientation_scale`` and ``pointing_axis`` as written (empty for the
             plain position task): the :class:`~gb_pin.robot.target.KinematicTarget` arguments.
         safety: the ``[safety]`` table (``obstacles = [{kind = "table", height = 0.0}, ...]``,
-            ``self_collision``, ``collision_geometry``, ``clearance``): a run of this preset checks
+            ``self_collision``, ``collision_geometry``, ``clearance``, ``slide``): a run of this preset checks
             every ask against them unless the run gives its own (:mod:`gb_pin.safety`).
     """
 

@@ -244,13 +244,15 @@ def safety_guard(spec: RunSpec, target: Any, X: NDArray[np.float64]) -> Any:
         UnsafeSetupError: a robot without a model, an obstacle at home, goals inside an obstacle, ...
     """
     checker = guard_for(
-        target, spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance
+        target, spec.obstacles or (), spec.self_collision, spec.collision_geometry, spec.clearance, spec.slide
     )
     checker.check_setup(X)
     return checker
 
 
-def guard_for(target: Any, obstacles: Any, self_collision: bool, geometry: str, clearance: float) -> Any:
+def guard_for(
+    target: Any, obstacles: Any, self_collision: bool, geometry: str, clearance: float, slide: bool = True
+) -> Any:
     """The collision checker of these settings on ``target`` (a simulated plant's own when it checks them).
 
     Raises:
@@ -266,13 +268,16 @@ def guard_for(target: Any, obstacles: Any, self_collision: bool, geometry: str, 
             f"got {target!r:.100}"
         )
     checker = getattr(target, "collision", None)  # a simulated plant's, with contacts on
-    if isinstance(checker, CollisionChecker) and checker.same_setup(
-        obstacles, self_collision, geometry, clearance
+    if (
+        isinstance(checker, CollisionChecker)
+        and checker.same_setup(obstacles, self_collision, geometry, clearance)
+        and checker.slide == slide
     ):
         return checker
     return CollisionChecker(
-        kinematic, obstacles, self_collision=self_collision, geometry=geometry, clearance=clearance
-    )
+        kinematic, obstacles, self_collision=self_collision, geometry=geometry, clearance=clearance,
+        slide=slide,
+    )  # fmt: skip
 
 
 def recorded_guard(robot: Any, settings: dict[str, Any] | None) -> Any:
@@ -288,7 +293,7 @@ def recorded_guard(robot: Any, settings: dict[str, Any] | None) -> Any:
         return None
     checker = guard_for(
         robot, settings["obstacles"], settings["self_collision"], settings["collision_geometry"],
-        settings["clearance"],
+        settings["clearance"], settings.get("slide", True),
     )  # fmt: skip
     checker.check_setup()
     checker.asks = int(settings["checked_asks"])

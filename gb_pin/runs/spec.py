@@ -72,6 +72,8 @@ class RunSpec:
         collision_geometry: the robot's shapes: ``"urdf"`` (its collision geometry, meshes as convex
             hulls) or ``"capsules"`` (one per link; for robots without collision geometry).
         clearance: the margin [m] every checked pair keeps.
+        slide: after a cut, slide joint by joint along what was touched (default); False: stop at
+            the last safe posture of the move (docs/SAFETY.md: steadier over long runs on the Panda).
     """
 
     robot: Any = "planar20"
@@ -99,6 +101,7 @@ class RunSpec:
     self_collision: bool = False
     collision_geometry: str = "urdf"
     clearance: float = 0.01
+    slide: bool = True
 
     def __post_init__(self) -> None:
         check.movements("movements", self.movements, minimum=1)
@@ -152,6 +155,8 @@ class RunSpec:
                 f"collision_geometry must be 'urdf' or 'capsules', got {self.collision_geometry!r}"
             )
         check.positive_float("clearance", self.clearance)
+        if not isinstance(self.slide, bool):
+            raise InvalidArgumentError(f"slide must be True or False, got {self.slide!r}")
 
     @property
     def safe(self) -> bool:
@@ -187,7 +192,7 @@ class RunSpec:
                 a recording, body changes, ...), named.
         """
         plain = {"robot", "movements", "seed", *NAMES, "goals", "targets", "eval_targets",
-                 "obstacles", "self_collision", "collision_geometry", "clearance"}  # fmt: skip
+                 "obstacles", "self_collision", "collision_geometry", "clearance", "slide"}  # fmt: skip
         others = [f.name for f in dataclasses.fields(self)
                   if f.name not in plain and not _is_default(getattr(self, f.name), f.default)]  # fmt: skip
         if isinstance(self.seed, np.random.Generator):
@@ -213,6 +218,8 @@ class RunSpec:
             args["obstacles"] = [plain_obstacle(o) for o in self.obstacles or ()]
             args.update(self_collision=self.self_collision, collision_geometry=self.collision_geometry,
                         clearance=self.clearance)  # fmt: skip
+            if not self.slide:
+                args["slide"] = False  # (only when off: earlier runs' trials keep their arguments)
         return self.robot, int(self.movements), int(self.seed), args  # type: ignore[arg-type]
 
     def replace(self, **changes: Any) -> RunSpec:

@@ -3,7 +3,9 @@
 ``{"obstacles": [{"kind": "table", "height": 0.0}, ...], "self_collision": True,
 "collision_geometry": "urdf", "clearance": 0.01, "checked_asks": 7501, "cut_asks": 4188}``: the
 obstacles as :func:`gb_pin.safety.obstacles.plain` writes them, the check's settings, and its counts
-so far. :func:`gb_pin.runs.session.resume_session` and :func:`gb_pin.resume` build the same
+so far (``"slide": False`` too for a checker that stops at a cut instead of sliding: absent, it
+slides, so the files of sliding runs are as before). :func:`gb_pin.runs.session.resume_session` and
+:func:`gb_pin.resume` build the same
 :class:`~gb_pin.safety.checker.CollisionChecker` from it (the collision matrix is regenerated the
 same way, or read from its cache), so a resumed run is checked as it was before it stopped
 (:func:`gb_pin.runs.setup.recorded_guard`).
@@ -32,7 +34,7 @@ def settings_of(guard: Any, cuts: int | None = None) -> dict[str, Any] | None:
 
     if not isinstance(guard, CollisionChecker):
         return None
-    return {
+    settings: dict[str, Any] = {
         "obstacles": [plain(o) for o in guard.obstacles],
         "self_collision": guard.self_collision,
         "collision_geometry": guard.geometry.kind,
@@ -40,6 +42,9 @@ def settings_of(guard: Any, cuts: int | None = None) -> dict[str, Any] | None:
         "checked_asks": int(guard.asks),
         "cut_asks": int(guard.cuts if cuts is None else cuts),
     }
+    if not guard.slide:
+        settings["slide"] = False
+    return settings
 
 
 def result_fields(guard: Any, cuts: int) -> dict[str, Any]:
@@ -61,8 +66,11 @@ def read_settings(value: Any) -> dict[str, Any] | None:
     """
     if value is None:
         return None
-    if not isinstance(value, dict) or sorted(value) != sorted(KEYS):
+    if not isinstance(value, dict) or sorted(set(value) - {"slide"}) != sorted(KEYS):
         raise InvalidArgumentError(f"corrupted safety entry {str(value)[:120]!r}: expected the keys {KEYS}")
+    slide = value.get("slide", True)
+    if not isinstance(slide, bool):
+        raise InvalidArgumentError(f"corrupted slide entry {str(slide)[:40]!r}: expected true or false")
     raw = value["obstacles"]
     if not isinstance(raw, list) or len(raw) > MAX_OBSTACLES or not all(isinstance(o, dict) for o in raw):
         raise InvalidArgumentError(f"corrupted obstacles entry {str(raw)[:120]!r}")
@@ -91,4 +99,5 @@ def read_settings(value: Any) -> dict[str, Any] | None:
     return {
         "obstacles": [plain(o) for o in obstacles], "self_collision": self_collision,
         "collision_geometry": geometry, "clearance": float(clearance), **counts,
+        **({} if slide else {"slide": False}),
     }  # fmt: skip
