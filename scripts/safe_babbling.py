@@ -116,7 +116,7 @@ def run(
     ``kinematic``: on the kinematic robot instead (no physics, no contacts counted). ``contacts``
     False: the checked run in the baseline's plant (contacts off, none counted): what the checks
     cost the learning, without MuJoCo's collision detection that verifies them. ``slide`` False: a
-    cut ask stops at the last safe posture of its move (``CollisionChecker(slide=False)``).
+    cut ask stops at the last safe posture of its move (``babble_session(..., slide=False)``).
     """
     if kinematic and not checked:
         target = gb_pin.load_robot(scene.robot)
@@ -138,10 +138,10 @@ def run(
         else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **(options if contacts else {}))
     )
     robot = plant.target if kinematic else plant
-    session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **options)
+    checks = {**options, **({} if slide or not checked else {"slide": False})}
+    session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **checks)
     independent = None
     if checked:
-        session.guard.slide = slide  # type: ignore[union-attr]
         matrix = session.guard.matrix  # type: ignore[union-attr]
         independent = CollisionChecker(plant.target, scene.obstacles, self_collision=True, clearance=1e-6,
                                        matrix=matrix)  # fmt: skip

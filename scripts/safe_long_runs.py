@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from typing import Any
 
 import gb_pin
 from gb_pin.safety.scenarios import panda_scene, so101_scene
@@ -31,8 +32,8 @@ def main() -> None:
     target = gb_pin.load_robot(args.robot)
     schedule = [m for m in POINTS if m <= args.movements]
     run = {"movements": args.movements, "seed": args.seed, "targets": scene.goals, "schedule": schedule}
-    session = gb_pin.babble_session(target, **run, obstacles=scene.obstacles, self_collision=True)
-    session.guard.slide = not args.stop
+    checks: dict[str, Any] = {"obstacles": scene.obstacles, "self_collision": True, "slide": not args.stop}
+    session = gb_pin.babble_session(target, **run, **checks)
     start = time.perf_counter()
     while not session.done:
         session.tell(target.forward(session.ask()))

@@ -36,20 +36,19 @@ CHECK_PERIOD = 0.01
 
 
 def count_contacts(data: Any, contacts: list[Any]) -> None:
-    """Add this step's contacts to ``contacts[0]``; with a dict in ``contacts[1]``, which pairs and how deep.
+    """Add this step's contacts to ``contacts`` = ``[total, pairs]`` (the plant's counts).
 
-    ``contacts[1][(geom1, geom2)]`` = (steps in contact, deepest penetration [m]).
+    ``pairs[(geom1, geom2)]`` = (steps in contact, deepest penetration [m]).
     """
     touching = int(data.ncon)
     if not touching:
         return
     contacts[0] += touching
-    if len(contacts) > 1:
-        for i in range(touching):
-            c = data.contact[i]
-            key = (int(c.geom1), int(c.geom2))
-            steps, deepest = contacts[1].get(key, (0, 0.0))
-            contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
+    for i in range(touching):
+        c = data.contact[i]
+        key = (int(c.geom1), int(c.geom2))
+        steps, deepest = contacts[1].get(key, (0, 0.0))
+        contacts[1][key] = (steps + 1, max(deepest, -float(c.dist)))
 
 
 def ramp(mujoco: Any, model: Any, data: Any, q: Any, speed: float, contacts: Any = None) -> int:
@@ -118,9 +117,9 @@ class Settling:
     def hold(self, mujoco: Any, model: Any, data: Any, contacts: Any = None, limit: int | None = None) -> int:
         """Advance the simulation under the current command by this rule; returns the steps taken.
 
-        ``contacts``: a list to which each step's contact count is added (``data.ncon``: the
-        steps then run one at a time); None: not counted. ``limit``: take at most that many steps
-        (a budget), whatever the rule says.
+        ``contacts``: ``[total, pairs]`` to which each step's contacts are added
+        (:func:`count_contacts`; the steps then run one at a time); None: not counted. ``limit``:
+        take at most that many steps (a budget), whatever the rule says.
         """
         most, every = self.steps(float(model.opt.timestep))
         if limit is not None:
@@ -142,11 +141,7 @@ class Settling:
         return done
 
     def _hold_counting(self, mujoco: Any, model: Any, data: Any, contacts: Any, most: int, every: int) -> int:
-        """:meth:`hold` one step at a time, adding each step's contacts to ``contacts[0]``.
-
-        With a second entry (a dict), each touching pair of geoms ``(geom1, geom2)`` maps to (steps in
-        contact, deepest penetration [m]).
-        """
+        """:meth:`hold` one step at a time, counting each step's contacts (:func:`count_contacts`)."""
         speed = math.inf if self.tolerance is None else self.tolerance
         accel = math.inf if self.tolerance is None else self.tolerance / REST_TIME
         for done in range(1, most + 1):
