@@ -94,6 +94,12 @@ def shared_error(on: dict, off: dict) -> tuple[float, float, int]:
     return float(e_on[keep].mean()), float(e_off[keep].mean()), int(keep.sum())
 
 
+def reach_mm(result) -> float | None:  # type: ignore[no-untyped-def]
+    """The run's last reach error [mm] (None: no goal-directed movement ended observed)."""
+    reach = result.history.reach
+    return None if reach is None else 1000 * float(reach[-1])
+
+
 def safe_error(result, forward, scene) -> float:  # type: ignore[no-untyped-def]
     """The learned inverse's mean error [mm] over the safely reachable goals (``forward``: the arm)."""
     target = gb_pin.load_robot(scene.robot)
@@ -128,7 +134,7 @@ def run(
             "error_mm": 1000 * float(result.history.error[-1]),
             "safe_error_mm": safe_error(result, target.forward, scene),
             **per_goal(result, target.forward, scene),
-            "reach_mm": 1000 * float(result.history.reach[-1]), "asks": int(result.steps), "cut": 0,
+            "reach_mm": reach_mm(result), "asks": int(result.steps), "cut": 0,
             "unsafe_sent": None, "contacts": None, "wall_s": wall, "checks": None,
         }  # fmt: skip
     options = {"obstacles": scene.obstacles, "self_collision": True} if checked else {}
@@ -138,11 +144,11 @@ def run(
         else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **(options if contacts else {}))
     )
     robot = plant.target if kinematic else plant
-    checks = {**options, **({} if slide or not checked else {"slide": False})}
+    checks = {**options, "slide": slide} if checked else {}
     session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **checks)
     independent = None
     if checked:
-        matrix = session.guard.matrix  # type: ignore[union-attr]
+        matrix = session.guard.matrix
         independent = CollisionChecker(plant.target, scene.obstacles, self_collision=True, clearance=1e-6,
                                        matrix=matrix)  # fmt: skip
     unsafe = 0
@@ -162,13 +168,13 @@ def run(
         "error_mm": 1000 * float(result.history.error[-1]),
         "safe_error_mm": safe_error(result, robot.forward if kinematic else plant.true_forward, scene),
         **per_goal(result, robot.forward if kinematic else plant.true_forward, scene),
-        "reach_mm": 1000 * float(result.history.reach[-1]),
+        "reach_mm": reach_mm(result),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
         "contacts": int(plant.contacts) if checked and not kinematic and contacts else None,
         "wall_s": wall, "contacts_on": checked and not kinematic and contacts,
         "contact_pairs": None if not checked or kinematic or not contacts else
             [[a, b, steps, deepest] for (a, b), (steps, deepest) in plant.contact_pairs.items()],
-        "checks": None if not checked else int(session.guard.checks),  # type: ignore[union-attr]
+        "checks": None if not checked else int(session.guard.checks),
         "slide": slide,
     }  # fmt: skip
 
