@@ -33,7 +33,7 @@ import numpy as np
 import gb_pin
 from gb_pin.ik import solve
 from gb_pin.safety.checker import CollisionChecker
-from gb_pin.safety.scenarios import panda_scene, so101_scene
+from gb_pin.safety.scenarios import panda_scene, so101_issue_scene, so101_scene
 from gb_pin.sim import MujocoPlant
 
 
@@ -59,7 +59,7 @@ def safe_goals(scene) -> np.ndarray:  # type: ignore[no-untyped-def]
     key = f"{scene.robot}_{len(scene.goals)}"
     if key in _SAFE:
         return _SAFE[key]
-    stored = os.path.join(_CACHE[0], f"{scene.robot}_safe_goals.json") if _CACHE else None
+    stored = os.path.join(_CACHE[0], f"{key}_safe_goals.json") if _CACHE else None
     if stored and os.path.exists(stored):
         with open(stored) as f:
             mask = np.array(json.load(f), dtype=bool)
@@ -126,8 +126,8 @@ def run(
     """
     if kinematic and not checked:
         target = gb_pin.load_robot(scene.robot)
-        start = time.perf_counter()
-        result = gb_pin.babble(target, movements=movements, seed=seed, targets=scene.goals)
+        start = time.perf_counter()  # the preset by name: its learner settings (radius 0.04 m on the SO-101)
+        result = gb_pin.babble(scene.robot, movements=movements, seed=seed, targets=scene.goals)
         wall = time.perf_counter() - start
         return {
             "robot": scene.robot, "seed": seed, "movements": movements, "checked": False,
@@ -143,7 +143,7 @@ def run(
         if kinematic
         else MujocoPlant(scene.robot, kp=scene.kp, speed=scene.speed, **(options if contacts else {}))
     )
-    robot = plant.target if kinematic else plant
+    robot = scene.robot if kinematic else plant  # the preset by name, or its plant: the preset's learner
     checks = {**options, "slide": slide} if checked else {}
     session = gb_pin.babble_session(robot, movements=movements, seed=seed, targets=scene.goals, **checks)
     independent = None
@@ -166,8 +166,8 @@ def run(
     return {
         "robot": scene.robot, "seed": seed, "movements": movements, "checked": checked,
         "error_mm": 1000 * float(result.history.error[-1]),
-        "safe_error_mm": safe_error(result, robot.forward if kinematic else plant.true_forward, scene),
-        **per_goal(result, robot.forward if kinematic else plant.true_forward, scene),
+        "safe_error_mm": safe_error(result, plant.target.forward if kinematic else plant.true_forward, scene),
+        **per_goal(result, plant.target.forward if kinematic else plant.true_forward, scene),
         "reach_mm": reach_mm(result),
         "asks": int(plant.asks), "cut": int(session.cuts), "unsafe_sent": unsafe,
         "contacts": int(plant.contacts) if checked and not kinematic and contacts else None,
@@ -200,7 +200,7 @@ def main() -> None:
     if args.cache:
         os.makedirs(args.cache, exist_ok=True)
         _CACHE.append(args.cache)
-    scenes = {"so101": so101_scene, "panda": panda_scene}
+    scenes = {"so101": so101_scene, "panda": panda_scene, "so101-issue": so101_issue_scene}
     rows = []
     for robot in args.robots:
         scene = scenes[robot]()
@@ -229,14 +229,14 @@ def main() -> None:
                         with open(cached + ".tmp", "w") as f:
                             json.dump(row, f)
                         os.replace(cached + ".tmp", cached)
-                rows.append(row)
+                rows.append({**row, "scene": robot})
                 print(json.dumps(row), flush=True)
                 if args.json:
                     with open(args.json, "w") as f:
                         json.dump(rows, f, indent=1)
     for robot in args.robots:
-        on = [r for r in rows if r["robot"] == robot and r["checked"]]
-        off = [r for r in rows if r["robot"] == robot and not r["checked"]]
+        on = [r for r in rows if r["scene"] == robot and r["checked"]]
+        off = [r for r in rows if r["scene"] == robot and not r["checked"]]
         e_on, e_off = np.median([r["error_mm"] for r in on]), np.median([r["error_mm"] for r in off])
         s_on, s_off = (
             np.median([r["safe_error_mm"] for r in on]),

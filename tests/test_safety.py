@@ -454,16 +454,16 @@ def plain_box(box: Box) -> dict:
     return plain(box)
 
 
-@pytest.mark.parametrize("scene", ["so101", "panda"])
+@pytest.mark.parametrize("scene", ["so101", "so101-issue", "panda"])
 def test_segments_called_safe_never_touch_by_a_dense_check(scene: str) -> None:
     """60 random segments near the obstacles: none the checker passes touches at 2 mm sampling.
 
     The reference is coal on every checked pair with no margin and no prefilter, every 2 mm of the
     fastest point's travel; segments it finds touching must all be cut (and some are).
     """
-    from gb_pin.safety.scenarios import panda_scene, so101_scene
+    from gb_pin.safety.scenarios import panda_scene, so101_issue_scene, so101_scene
 
-    setup = so101_scene() if scene == "so101" else panda_scene()
+    setup = {"so101": so101_scene, "so101-issue": so101_issue_scene, "panda": panda_scene}[scene]()
     target = load_robot(setup.robot)
     checker = CollisionChecker(target, setup.obstacles, self_collision=True)
     home = np.asarray(target.home, dtype=float)
@@ -478,3 +478,25 @@ def test_segments_called_safe_never_touch_by_a_dense_check(scene: str) -> None:
         assert not (ok and dense), (q0.tolist(), q1.tolist())
         passed += 1
     assert passed == 60 and touching > 5
+
+
+def test_the_issue_scene_is_the_issues_post_with_goals_around_it() -> None:
+    """The issue's own post (its CLI example), 72 goals 1-8 cm above the table around it, home safe.
+
+    Every goal keeps 3 cm from the post; the setup passes the checks before anything moves (home
+    safe, no obstacle holding a goal), and home is not within the clearance of the post or table.
+    """
+    from gb_pin.safety.scenarios import ISSUE_POST, so101_issue_scene
+
+    scene = so101_issue_scene()
+    assert parse_obstacle("box:center=0.21,0,0.045,half=0.02,0.02,0.045") == ISSUE_POST
+    assert scene.obstacles == (Table(0.0), ISSUE_POST) and scene.goals.shape == (72, 3)
+    assert np.allclose(np.unique(scene.goals[:, 2]), [0.01, 0.045, 0.08])
+    assert np.allclose(scene.goals[:, :2].min(axis=0), [0.06, -0.15])
+    assert np.allclose(scene.goals[:, :2].max(axis=0), [0.36, 0.15])
+    assert not ISSUE_POST.contains(scene.goals, margin=0.03).any()
+    target = load_robot(scene.robot)
+    checker = CollisionChecker(target, scene.obstacles, self_collision=True)
+    checker.check_setup(scene.goals)
+    assert checker.is_safe(np.asarray(target.home, dtype=float))
+    assert so101_issue_scene(0.07).goals.shape == (48, 3)

@@ -42,6 +42,22 @@ def so101_scene() -> Scene:
     return Scene("so101", (Table(0.0), SO101_POST), g[~SO101_POST.contains(g, margin=0.03)], 100.0)
 
 
+ISSUE_POST = Box((0.21, 0.0, 0.045), (0.02, 0.02, 0.045))
+"""The issue's own post (its CLI example ``box:center=0.21,0,0.045,half=0.02,0.02,0.045``)."""
+
+
+def so101_issue_scene(half_width: float = 0.15) -> Scene:
+    """Goals 1 to 8 cm above the table around the issue's post at (0.21, 0): 72 goals.
+
+    A 5 x 5 x 3 grid over x 0.21 +- ``half_width``, y +- ``half_width``, z 0.01-0.08 m, centred on
+    the post, less the goals within 3 cm of it. The half-width 0.15 m is the one whose run without
+    obstacles is as obstructed as the issue measured its scene (``scripts/scene_obstruction.py``).
+    """
+    h = float(half_width)
+    g = np.mgrid[0.21 - h : 0.21 + h : 5j, -h:h:5j, 0.01:0.08:3j].reshape(3, -1).T
+    return Scene("so101", (Table(0.0), ISSUE_POST), g[~ISSUE_POST.contains(g, margin=0.03)], 100.0)
+
+
 PANDA_BOX = Box((0.40, 0.09, 0.40), (0.04, 0.04, 0.04))
 """An 8 cm cube among the Panda's goals (between its grid points), in the way of its movements."""
 
