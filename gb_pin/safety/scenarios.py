@@ -1,4 +1,7 @@
-"""The two scenes of issue 34, as data: the SO-101 by its table around a post, a Panda with a table and a box.
+"""The scenes of issue 34, as data: the SO-101 by its table around a post, a Panda with a table and a box.
+
+The SO-101's two scenes: the issue's (its post at (0.21, 0, 0.045) m) and our earlier one (post at x
+= 0.26 m among a tighter grid: three times as obstructed, docs/SAFETY.md).
 
 Used by ``scripts/safe_babbling.py`` (the acceptance runs) and the tests.
 """
