@@ -206,7 +206,7 @@ def main() -> None:
         scene = scenes[robot]()
         if args.reachable_goals:
             scene = scene._replace(goals=scene.goals[safe_goals(scene)])
-            _SAFE[f"{robot}_{len(scene.goals)}"] = np.ones(len(scene.goals), dtype=bool)
+            _SAFE[f"{scene.robot}_{len(scene.goals)}"] = np.ones(len(scene.goals), dtype=bool)
         for seed in args.seeds:
             for checked in (True, False):
                 kind = "kinematic" if args.kinematic else "mujoco"

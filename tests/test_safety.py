@@ -500,3 +500,5 @@ def test_the_issue_scene_is_the_issues_post_with_goals_around_it() -> None:
     checker.check_setup(scene.goals)
     assert checker.is_safe(np.asarray(target.home, dtype=float))
     assert so101_issue_scene(0.07).goals.shape == (48, 3)
+    with pytest.raises(InvalidArgumentError, match="half_width"):
+        so101_issue_scene(-0.1)

@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from gb_pin import _validation as check
 from gb_pin.safety.obstacles import Box, Obstacle, Table
 
 
@@ -55,8 +56,11 @@ def so101_issue_scene(half_width: float = 0.15) -> Scene:
     A 5 x 5 x 3 grid over x 0.21 +- ``half_width``, y +- ``half_width``, z 0.01-0.08 m, centred on
     the post, less the goals within 3 cm of it. The half-width 0.15 m is the one whose run without
     obstacles is as obstructed as the issue measured its scene (``scripts/scene_obstruction.py``).
+
+    Raises:
+        InvalidArgumentError: ``half_width`` not a positive number.
     """
-    h = float(half_width)
+    h = check.positive_float("half_width", half_width)
     g = np.mgrid[0.21 - h : 0.21 + h : 5j, -h:h:5j, 0.01:0.08:3j].reshape(3, -1).T
     return Scene("so101", (Table(0.0), ISSUE_POST), g[~ISSUE_POST.contains(g, margin=0.03)], 100.0)
 
