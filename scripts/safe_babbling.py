@@ -33,7 +33,7 @@ import numpy as np
 import gb_pin
 from gb_pin.ik import solve
 from gb_pin.safety.checker import CollisionChecker
-from gb_pin.safety.scenarios import panda_scene, so101_issue_scene, so101_scene
+from gb_pin.safety.scenarios import SCENES
 from gb_pin.sim import MujocoPlant
 
 
@@ -184,7 +184,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--movements", type=int, default=1000)
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
-    parser.add_argument("--robots", nargs="+", default=["so101", "panda"])
+    parser.add_argument("--robots", nargs="+", choices=sorted(SCENES), default=["so101", "panda"])
     parser.add_argument("--json", default=None)
     parser.add_argument("--kinematic", action="store_true", help="on the kinematic robot (no physics)")
     parser.add_argument("--cache", default=None, help="a folder: one JSON file per run, runs there skipped")
@@ -200,10 +200,9 @@ def main() -> None:
     if args.cache:
         os.makedirs(args.cache, exist_ok=True)
         _CACHE.append(args.cache)
-    scenes = {"so101": so101_scene, "panda": panda_scene, "so101-issue": so101_issue_scene}
     rows = []
     for robot in args.robots:
-        scene = scenes[robot]()
+        scene = SCENES[robot]()
         if args.reachable_goals:
             scene = scene._replace(goals=scene.goals[safe_goals(scene)])
             _SAFE[f"{scene.robot}_{len(scene.goals)}"] = np.ones(len(scene.goals), dtype=bool)

@@ -20,15 +20,16 @@ import numpy as np
 import gb_pin
 from gb_pin.safety.checker import CollisionChecker
 from gb_pin.safety.obstacles import Box, Table
-from gb_pin.safety.scenarios import Scene, so101_issue_scene, so101_scene
+from gb_pin.safety.scenarios import SCENES, Scene, so101_issue_scene
 
 
 def obstruction(scene: Scene, movements: int = 1000, seed: int = 0) -> dict[str, int]:
     """Asks of a run without obstacles through the scene's post and table (shapes, hand point)."""
     post = next(o for o in scene.obstacles if isinstance(o, Box))
+    table = next(o for o in scene.obstacles if isinstance(o, Table))
     target = gb_pin.load_robot(scene.robot)
     through_post = CollisionChecker(target, [post], clearance=1e-6)
-    into_table = CollisionChecker(target, [Table(0.0)], clearance=1e-6)
+    into_table = CollisionChecker(target, [table], clearance=1e-6)
     session = gb_pin.babble_session(scene.robot, movements=movements, seed=seed, targets=scene.goals)
     counts = {"asks": 0, "post": 0, "table": 0, "hand_in_post": 0, "hand_below_table": 0}
     while not session.done:
@@ -38,7 +39,7 @@ def obstruction(scene: Scene, movements: int = 1000, seed: int = 0) -> dict[str,
         counts["post"] += not through_post.is_safe(q)
         counts["table"] += not into_table.is_safe(q)
         counts["hand_in_post"] += bool(post.contains(x[None])[0])
-        counts["hand_below_table"] += bool(x[2] < 0.0)
+        counts["hand_below_table"] += bool(x[2] < table.height)
         session.tell(x)
     return counts
 
@@ -54,7 +55,7 @@ def main() -> None:
     args = parser.parse_args()
     widths = args.half_widths if args.scene == "so101-issue" else [None]
     for width in widths:
-        scene = so101_scene() if width is None else so101_issue_scene(width)
+        scene = SCENES[args.scene]() if width is None else so101_issue_scene(width)
         for seed in args.seeds:
             counts = obstruction(scene, args.movements, seed)
             share = round(100 * counts["post"] / counts["asks"], 1)

@@ -287,9 +287,9 @@ def test_prefiltered_checks_give_coals_exact_verdicts_and_cuts(scene: str) -> No
     against coal on every checked pair: the same verdicts, the same cut postures bit for bit, the
     same count of postures checked.
     """
-    from gb_pin.safety.scenarios import panda_scene, so101_scene
+    from gb_pin.safety.scenarios import SCENES
 
-    setup = so101_scene() if scene == "so101" else panda_scene()
+    setup = SCENES[scene]()
     target = load_robot(setup.robot)
     checker = CollisionChecker(target, setup.obstacles, self_collision=True)
     Q = sample_postures(target.lower, target.upper, 180, seed=3)
@@ -461,9 +461,9 @@ def test_segments_called_safe_never_touch_by_a_dense_check(scene: str) -> None:
     The reference is coal on every checked pair with no margin and no prefilter, every 2 mm of the
     fastest point's travel; segments it finds touching must all be cut (and some are).
     """
-    from gb_pin.safety.scenarios import panda_scene, so101_issue_scene, so101_scene
+    from gb_pin.safety.scenarios import SCENES
 
-    setup = {"so101": so101_scene, "so101-issue": so101_issue_scene, "panda": panda_scene}[scene]()
+    setup = SCENES[scene]()
     target = load_robot(setup.robot)
     checker = CollisionChecker(target, setup.obstacles, self_collision=True)
     home = np.asarray(target.home, dtype=float)

@@ -8,6 +8,7 @@ Used by ``scripts/safe_babbling.py`` (the acceptance runs) and the tests.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -81,3 +82,11 @@ def panda_scene() -> Scene:
     goals = load_robot("panda").targets
     assert goals is not None
     return Scene("panda", (Table(0.0), PANDA_BOX), goals, 3000.0, speed=1.0)
+
+
+SCENES: dict[str, Callable[[], Scene]] = {
+    "so101-issue": so101_issue_scene,
+    "so101": so101_scene,
+    "panda": panda_scene,
+}
+"""The scenes by name (``scripts/safe_babbling.py --robots``, ``scripts/scene_obstruction.py --scene``)."""
